@@ -1,0 +1,54 @@
+# The course's commands. `make lab` opens the course; `make test` checks all of it.
+# Both build .venv from environment.txt first (again whenever environment.txt changes).
+
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+# Jupyter refuses to run as root unless told; containers and CI often are root.
+ROOT_FLAG := $(if $(filter 0,$(shell id -u)),--allow-root)
+# Fixed hash seed: the same set/dict order in every kernel, so outputs are deterministic.
+export PYTHONHASHSEED := 0
+
+NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
+NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sanitize.cfg
+
+.PHONY: help lab test test-lib test-notebooks execute bench clean
+
+help:
+	@echo "make lab      open the course in JupyterLab (sets up .venv the first time)"
+	@echo "make test     run every test: the library and every notebook (strict nbval)"
+	@echo "make execute  re-run every notebook in place, top to bottom in a fresh kernel"
+	@echo "make bench    time so3lib's exp and log against scipy"
+	@echo "make clean    remove .venv, build/ and caches"
+
+$(STAMP): environment.txt pyproject.toml
+	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "Python 3.11 or newer is needed; found " + sys.version.split()[0] + ". Set PYTHON=/path/to/python3.11.")'
+	rm -rf $(VENV)
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -r environment.txt
+	touch $@
+
+lab: $(STAMP)
+	$(BIN)/jupyter lab --ServerApp.ip=127.0.0.1 $(ROOT_FLAG) $(LAB_ARGS) notebooks/00_start_here.ipynb
+
+test: $(STAMP)
+	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) tests $(NOTEBOOKS)
+
+test-lib: $(STAMP)
+	$(BIN)/python -m pytest -n 2 tests
+
+test-notebooks: $(STAMP)
+	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) $(NOTEBOOKS)
+
+execute: $(STAMP)
+	$(BIN)/jupyter nbconvert --to notebook --execute --inplace \
+	    --ExecutePreprocessor.timeout=300 --ExecutePreprocessor.kernel_name=python3 $(NOTEBOOKS)
+
+bench: $(STAMP)
+	$(BIN)/python tests/benchmark.py
+
+clean:
+	rm -rf $(VENV) build .pytest_cache .hypothesis
+	find . -name __pycache__ -type d -prune -exec rm -rf {} +

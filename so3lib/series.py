@@ -1,0 +1,104 @@
+r"""The exponential as a power series, and the scalar coefficients of Rodrigues' formula.
+
+These are teaching tools: :func:`exp_series` sums the series that notebook 02 regroups
+into Rodrigues' formula, and :func:`A` and :func:`B` are the two scalar functions that
+the regrouping produces,
+
+.. math:: e^{\hat\varphi} = \sum_{m \ge 0} \frac{\hat\varphi^m}{m!}
+          = I + A(\theta)\,\hat\varphi + B(\theta)\,\hat\varphi^2,
+          \qquad A(t) = \frac{\sin t}{t},\quad B(t) = \frac{1 - \cos t}{t^2}.
+
+:func:`so3lib.exp` is the function to use for computing; it evaluates the same formula
+with the same care.
+"""
+
+import numpy as np
+
+from .so3 import hat
+from .validation import as_times, as_vectors
+
+__all__ = ["exp_series", "A", "B"]
+
+# Below this |t| two Taylor terms are exact to rounding (spec S10).
+_TAYLOR_BELOW = 1e-4
+
+
+def exp_series(omega, tau=1.0, terms=20):
+    r"""The exponential series of :math:`\tau\hat\omega`, truncated after ``terms`` terms.
+
+    .. math:: S_N = \sum_{m=0}^{N-1} \frac{(\tau\hat\omega)^m}{m!}
+
+    Parameters
+    ----------
+    omega : array_like, shape (..., 3)
+    tau : float or array_like, broadcastable to omega's leading shape
+    terms : int, at least 1
+        ``N``, the number of terms: ``terms=1`` gives ``I``, ``terms=2`` gives
+        ``I + tau hat(omega)``. The error after ``N`` terms is about
+        ``theta^N / N!`` (notebook 02).
+
+    Returns
+    -------
+    S : ndarray, shape (..., 3, 3)
+    """
+    omega = as_vectors(omega, 3, "omega", "exp_series")
+    tau = as_times(tau, "exp_series")
+    if isinstance(terms, bool) or not isinstance(terms, (int, np.integer)) or terms < 1:
+        raise ValueError(f"exp_series expects terms as an int >= 1 (the number of terms of "
+                         f"the series); got {terms!r}")
+    K = hat(omega * tau[..., None])
+    term = np.broadcast_to(np.eye(3), K.shape).copy()
+    total = term.copy()
+    for m in range(1, int(terms)):
+        term = term @ K / m            # (tau hat(omega))^m / m!
+        total += term
+    return total
+
+
+def A(t):
+    r"""The coefficient of :math:`\hat\varphi` in Rodrigues' formula.
+
+    .. math:: A(t) = \frac{\sin t}{t} = \sum_{k\ge0} \frac{(-1)^k t^{2k}}{(2k+1)!},
+              \qquad A(0) = 1
+
+    ``sin(t)/t`` is accurate wherever ``t != 0``; below ``1e-4`` the Taylor form
+    ``1 - t^2/6`` is used, which is exact to rounding there (spec S10).
+
+    Parameters
+    ----------
+    t : float or array_like
+
+    Returns
+    -------
+    ndarray or float, same shape as ``t``
+    """
+    t = as_times(t, "A", name="t")
+    tiny = np.abs(t) < _TAYLOR_BELOW
+    safe = np.where(tiny, 1.0, t)
+    out = np.where(tiny, 1.0 - t * t / 6.0, np.sin(safe) / safe)
+    return out[()] if out.ndim == 0 else out
+
+
+def B(t):
+    r"""The coefficient of :math:`\hat\varphi^2` in Rodrigues' formula.
+
+    .. math:: B(t) = \frac{1 - \cos t}{t^2} = \frac{2\sin^2(t/2)}{t^2}
+              = \sum_{k\ge0} \frac{(-1)^k t^{2k}}{(2k+2)!}, \qquad B(0) = \tfrac12
+
+    The half-angle form has no cancellation; the naive ``(1 - cos t)/t^2`` returns 0 at
+    ``t = 1e-8`` (notebook 02, "Small angles"). Below ``1e-4``, ``1/2 - t^2/24``.
+
+    Parameters
+    ----------
+    t : float or array_like
+
+    Returns
+    -------
+    ndarray or float, same shape as ``t``
+    """
+    t = as_times(t, "B", name="t")
+    tiny = np.abs(t) < _TAYLOR_BELOW
+    safe = np.where(tiny, 1.0, t)
+    out = np.where(tiny, 0.5 - t * t / 24.0, 2.0 * (np.sin(0.5 * safe) / safe) ** 2)
+    return out[()] if out.ndim == 0 else out
+

@@ -1,0 +1,201 @@
+r"""Input checks shared by every public function of so3lib.
+
+Each helper turns ``array_like`` input into a float64 ``ndarray`` of the expected
+shape, or raises ``ValueError`` with a message that names the function, the argument,
+what was wrong and what was expected.  The functions in :mod:`so3lib.so3` and
+:mod:`so3lib.so2` call these helpers first; ``check=False`` skips the (costlier)
+group-membership tests, never the shape tests.
+
+Tolerance
+---------
+A matrix ``R`` counts as a rotation when
+
+.. math:: \max_{ij} |(R^T R - I)_{ij}| \le \mathrm{tol} \quad\text{and}\quad
+          |\det R - 1| \le \mathrm{tol},
+
+with ``tol = ROTATION_TOL = 1e-6`` unless the caller passes another value.  That
+accepts any rotation carried through a few thousand floating-point operations
+(rounding noise is about 1e-15 per step) and a rotation stored in float32, and refuses
+hand-typed four-digit entries (``0.7071`` is off by 7e-6), scaled matrices and
+reflections.  The logarithm of an accepted matrix at distance ``delta`` from SO(3) is
+within about ``pi * delta`` of the logarithm of the nearest rotation (spec S23).
+"""
+
+import numpy as np
+
+__all__ = [
+    "ROTATION_TOL",
+    "SKEW_RTOL",
+    "as_vectors",
+    "as_matrices",
+    "as_times",
+    "rotation_defects",
+    "check_rotation",
+    "check_skew",
+    "as_tolerance",
+]
+
+#: Default tolerance of the rotation test (see the module docstring).
+ROTATION_TOL = 1e-6
+
+#: Relative tolerance of the skew-symmetry test in ``vee``: ``|M + M^T| <= SKEW_RTOL * |M|``.
+SKEW_RTOL = 1e-8
+
+
+def _index(idx):
+    """Format a batch index tuple for a message: (2,) -> '[2]', () -> ''."""
+    return "[" + ", ".join(str(int(i)) for i in idx) + "]" if len(idx) else ""
+
+
+def _as_real_array(x, name, func):
+    """Return ``x`` as a float64 array, or raise ValueError if it is not real numbers."""
+    try:
+        arr = np.asarray(x)
+    except (ValueError, TypeError) as err:  # ragged nested lists and the like
+        raise ValueError(f"{func} expects {name} as an array of real numbers; "
+                         f"could not read it as an array ({err})") from None
+    if arr.dtype.kind == "c":
+        raise ValueError(f"{func} expects {name} as real numbers; got complex values "
+                         f"(dtype {arr.dtype})")
+    if arr.dtype.kind == "b":
+        raise ValueError(f"{func} expects {name} as real numbers; got booleans")
+    if arr.dtype.kind not in "iuf":
+        try:
+            arr = arr.astype(np.float64)
+        except (ValueError, TypeError):
+            raise ValueError(f"{func} expects {name} as real numbers; got an array of "
+                             f"dtype {arr.dtype}") from None
+    return arr.astype(np.float64, copy=False)
+
+
+def _check_finite(arr, name, func):
+    """Raise ValueError naming the first NaN or infinite entry of ``arr``."""
+    finite = np.isfinite(arr)
+    if not finite.all():
+        idx = tuple(np.argwhere(~finite)[0])
+        bad = arr[idx]
+        kind = "NaN" if np.isnan(bad) else "an infinite value"
+        where = f" at index {_index(idx)}" if idx else ""
+        raise ValueError(f"{func} expects finite numbers; {name} has {kind}{where}")
+
+
+def as_vectors(x, dim, name, func):
+    """Return ``x`` as a finite float64 array of shape ``(..., dim)``.
+
+    Parameters
+    ----------
+    x : array_like, shape (..., dim)
+    dim : int
+        Length of the last axis (3 for so(3), 2 for the plane).
+    name, func : str
+        Argument and function names used in error messages.
+    """
+    arr = _as_real_array(x, name, func)
+    if arr.ndim == 0 or arr.shape[-1] != dim:
+        raise ValueError(f"{func} expects {name} of shape (..., {dim}), a {dim}-vector or a "
+                         f"batch of them; got shape {arr.shape}")
+    _check_finite(arr, name, func)
+    return arr
+
+
+def as_matrices(m, dim, name, func):
+    """Return ``m`` as a finite float64 array of shape ``(..., dim, dim)``."""
+    arr = _as_real_array(m, name, func)
+    if arr.ndim < 2 or arr.shape[-2:] != (dim, dim):
+        raise ValueError(f"{func} expects {name} of shape (..., {dim}, {dim}), a {dim}x{dim} "
+                         f"matrix or a batch of them; got shape {arr.shape}")
+    _check_finite(arr, name, func)
+    return arr
+
+
+def as_times(tau, func, nonzero=False, name="tau"):
+    """Return ``tau`` (or another real scalar argument) as a finite float64 array.
+
+    Any shape is accepted; it broadcasts against the batch later.
+
+    With ``nonzero=True`` a zero time is refused: the logarithm divides by ``tau``.
+    """
+    arr = _as_real_array(tau, name, func)
+    _check_finite(arr, name, func)
+    if nonzero and (arr == 0).any():
+        idx = tuple(np.argwhere(arr == 0)[0])
+        where = f" (at index {_index(idx)})" if idx else ""
+        raise ValueError(f"{func} divides by the time {name}, so {name} must be nonzero; "
+                         f"got {name} = 0{where}")
+    return arr
+
+
+def rotation_defects(R):
+    r"""Distances of each 3x3 or 2x2 matrix from the rotation group.
+
+    Returns
+    -------
+    orth : ndarray, shape (...)
+        :math:`\max_{ij} |(R^T R - I)_{ij}|`.
+    det : ndarray, shape (...)
+        :math:`\det R`.
+    """
+    dim = R.shape[-1]
+    gram = np.einsum("...ki,...kj->...ij", R, R)
+    orth = np.abs(gram - np.eye(dim)).max(axis=(-2, -1))
+    return orth, np.linalg.det(R)
+
+
+def check_rotation(R, tol, func, name="R"):
+    """Raise ValueError unless every matrix of ``R`` is a rotation within ``tol``.
+
+    The message names the first failing matrix of a batch and what was measured.
+    """
+    orth, det = rotation_defects(R)
+    bad = (orth > tol) | (np.abs(det - 1.0) > tol)
+    if not bad.any():
+        return
+    idx = tuple(np.argwhere(bad)[0]) if bad.ndim else ()
+    o, d = float(orth[idx]), float(det[idx])
+    which = f"{name}{_index(idx)}" if idx else name
+    expected = (f"{func} expects rotation matrices: {name}^T {name} = I and det {name} = +1 "
+                f"within tol={tol:g}")
+    if o <= tol:
+        problem = (f"{which} has det = {d:.6g}: a reflection, not a rotation" if d < 0
+                   else f"{which} has det = {d:.6g}, expected +1")
+    else:
+        problem = f"{which} is not orthogonal: max|{name}^T {name} - I| = {o:.2e}"
+        M = R[idx]
+        gram = M.T @ M
+        k2 = np.trace(gram) / M.shape[-1]
+        if k2 == 0:
+            problem += " (it is the zero matrix)"
+        elif np.abs(gram - k2 * np.eye(M.shape[-1])).max() <= tol * k2:
+            kind = "rotation" if d > 0 else "reflection"
+            problem += f" (it is a {kind} scaled by {np.sqrt(k2):.6g})"
+        elif d < 0:
+            problem += f", and det = {d:.3g} < 0"
+    raise ValueError(f"{expected}; {problem}")
+
+
+def check_skew(M, func, name="M", rtol=SKEW_RTOL):
+    """Raise ValueError unless every matrix of ``M`` is skew-symmetric.
+
+    The test is relative, ``max|M + M^T| <= rtol * max|M|``, so it does not depend on
+    the scale of ``M``; the zero matrix passes.
+    """
+    sym = np.abs(M + np.swapaxes(M, -1, -2)).max(axis=(-2, -1))
+    scale = np.abs(M).max(axis=(-2, -1))
+    bad = sym > rtol * scale
+    if bad.any():
+        idx = tuple(np.argwhere(bad)[0]) if bad.ndim else ()
+        which = f"{name}{_index(idx)}" if idx else name
+        raise ValueError(f"{func} expects a skew-symmetric matrix ({name}^T = -{name}); "
+                         f"{which} has max|{name} + {name}^T| = {float(sym[idx]):.2e} against "
+                         f"max|{name}| = {float(scale[idx]):.2e}")
+
+
+def as_tolerance(tol, func):
+    """Return ``tol`` as a float, or raise ValueError unless it is finite and >= 0."""
+    try:
+        value = float(tol)
+    except (TypeError, ValueError):
+        raise ValueError(f"{func} expects tol as a nonnegative number; got {tol!r}") from None
+    if not np.isfinite(value) or value < 0:
+        raise ValueError(f"{func} expects tol as a finite nonnegative number; got {tol!r}")
+    return value

@@ -1,0 +1,147 @@
+r"""Checkers for the notebooks' exercises.
+
+A checker takes the learner's answer -- a value, or a function to call -- compares it
+with the library's answer, and returns a :class:`Feedback`: it prints as a short
+message ("Correct" or what is wrong and a hint) and is truthy only when the answer is
+right. A checker never raises: an answer that is missing (``None`` or ``...``), a
+function that raises, returns ``None``, the wrong shape, NaN or a wrong number all get
+a message, so that a notebook with unanswered exercises still runs top to bottom.
+
+One module per notebook holds that notebook's checkers (``so3lib.exercises.hat_map``
+for notebook 01, and so on); they are thin wrappers around :func:`check_value` and
+:func:`check_function` defined here.
+"""
+
+import numpy as np
+
+__all__ = ["Feedback", "check_value", "check_function"]
+
+_NOT_ANSWERED = "No answer yet: replace the `...` (or `None`) with your answer and run the cell again."
+
+
+class Feedback:
+    """Outcome of one check: truthy when correct; its repr is the message."""
+
+    def __init__(self, passed, message):
+        self.passed = bool(passed)
+        self.message = message
+
+    def __bool__(self):
+        return self.passed
+
+    def __repr__(self):
+        return self.message
+
+    __str__ = __repr__
+
+
+def _ok(name, extra=""):
+    return Feedback(True, f"Correct: {name}.{(' ' + extra) if extra else ''}")
+
+
+def _fail(name, why, hint=None):
+    text = f"Not yet: {name}. {why}"
+    if hint:
+        text += f"\nHint: {hint}"
+    return Feedback(False, text)
+
+
+def _fmt(x):
+    arr = np.asarray(x)
+    if arr.ndim == 0:
+        return f"{arr.item():.6g}"
+    return np.array2string(arr, precision=4, suppress_small=True, separator=", ")
+
+
+def _compare(got, expected, name, atol, rtol, hint, context=""):
+    """Feedback for a computed answer ``got`` against ``expected`` (both array-like)."""
+    where = f" for {context}" if context else ""
+    if got is None or got is Ellipsis:
+        return None
+    try:
+        got_arr = np.asarray(got, dtype=complex if np.iscomplexobj(expected) else float)
+    except (TypeError, ValueError):
+        return _fail(name, f"The answer{where} is a {type(got).__name__}, not a number or "
+                           f"an array of numbers.", hint)
+    exp_arr = np.asarray(expected)
+    if got_arr.shape != exp_arr.shape:
+        return _fail(name, f"The answer{where} has shape {got_arr.shape}; expected shape "
+                           f"{exp_arr.shape}.", hint)
+    if not np.isfinite(got_arr).all():
+        return _fail(name, f"The answer{where} contains NaN or inf: {_fmt(got_arr)}. Look for a "
+                           "division by zero (a small-angle case?).", hint)
+    if np.allclose(got_arr, exp_arr, atol=atol, rtol=rtol):
+        return True
+    diff = float(np.abs(got_arr - exp_arr).max())
+    why = f"The answer{where} is {_fmt(got_arr)}; expected {_fmt(exp_arr)} (largest difference {diff:.2g})."
+    if np.any(exp_arr != 0) and np.allclose(got_arr, -exp_arr, atol=atol, rtol=rtol):
+        why += " It is off by a sign: check the direction of rotation or the order of a product."
+    elif exp_arr.ndim >= 2 and exp_arr.shape[-1] == exp_arr.shape[-2] and \
+            np.allclose(got_arr, np.swapaxes(exp_arr, -1, -2), atol=atol, rtol=rtol):
+        why += " It is the transpose of the expected matrix."
+    return _fail(name, why, hint)
+
+
+def check_value(answer, expected, name, atol=1e-8, rtol=1e-8, hint=None):
+    """Check a value the learner computed against the expected one.
+
+    Parameters
+    ----------
+    answer : object
+        The learner's answer; ``None`` or ``...`` means not answered yet.
+    expected : array_like
+    name : str
+        What the answer is, for the message ("the rotation reached in 1 s").
+    atol, rtol : float
+        Tolerances of ``np.allclose``.
+    hint : str, optional
+        Shown when the answer is wrong.
+    """
+    try:
+        if answer is None or answer is Ellipsis:
+            return _fail(name, _NOT_ANSWERED)
+        result = _compare(answer, expected, name, atol, rtol, hint)
+        return _ok(name) if result is True else result
+    except Exception as err:  # a checker must never stop the notebook
+        return _fail(name, f"The answer could not be checked ({type(err).__name__}: {err}).", hint)
+
+
+def check_function(func, reference, inputs, name, atol=1e-10, rtol=1e-10, hint=None):
+    """Call the learner's function on each input and compare with ``reference``.
+
+    Parameters
+    ----------
+    func : callable or None
+        The learner's function. ``None``, ``...``, a function that raises
+        ``NotImplementedError`` or returns ``None`` count as not written yet.
+    reference : callable
+        The library function with the same signature.
+    inputs : list of tuple
+        Argument tuples to try, simplest first, so the message names the simplest input
+        on which the function goes wrong.
+    name : str
+        The function's name in the exercise, for the message.
+    """
+    if func is None or func is Ellipsis:
+        return _fail(name, _NOT_ANSWERED)
+    if not callable(func):
+        return _fail(name, f"Expected a function, got a {type(func).__name__}.")
+    for args in inputs:
+        shown = ", ".join(_fmt(a) for a in args)
+        try:
+            got = func(*[np.array(a, copy=True) if isinstance(a, np.ndarray) else a for a in args])
+        except NotImplementedError:
+            return _fail(name, "Not written yet: the function still raises NotImplementedError.")
+        except Exception as err:
+            return _fail(name, f"Calling {name}({shown}) raised {type(err).__name__}: {err}", hint)
+        if got is None:
+            return _fail(name, f"{name}({shown}) returned None: is the `return` missing, or is "
+                               "the function not written yet?")
+        try:
+            result = _compare(got, reference(*args), name, atol, rtol, hint, context=f"{name}({shown})")
+        except Exception as err:
+            return _fail(name, f"The result of {name}({shown}) could not be checked "
+                               f"({type(err).__name__}: {err}).", hint)
+        if result is not True:
+            return result
+    return _ok(name, f"It agrees with so3lib on {len(inputs)} test input{'s' if len(inputs) != 1 else ''}.")

@@ -186,7 +186,10 @@ def check_quaternion(func):
     name = "quaternion"
     try:
         fb = check_function(func, quaternion, _QUAT_INPUTS, name, atol=1e-10, rtol=1e-10)
-        if fb or "No answer yet" in fb.message or "Not written yet" in fb.message \
+        if fb:
+            return Feedback(True, f"Correct: {name}. It gives (cos(theta/2), sin(theta/2) n) on "
+                                  f"{len(_QUAT_INPUTS)} test inputs.")
+        if "No answer yet" in fb.message or "Not written yet" in fb.message \
                 or "Expected a function" in fb.message:
             return fb
         return Feedback(False, fb.message + "\nHint: " + _quat_hint(func))

@@ -66,7 +66,7 @@ def _try_call(func, *args):
 
 def check_sigma_and_axis(sigma, n):
     r"""Exercise 4.1: the angular speed ``sigma`` and unit axis ``n`` of ``R41`` reached in
-    ``TAU41`` seconds, by the lecture notes' method (notebook 04, (4.6) and (4.7)):
+    ``TAU41`` seconds, by the lecture notes' method (notebook 04, (4.5) and (4.6)):
 
     .. math:: \sigma = \frac1\tau\arccos\frac{\operatorname{tr}R - 1}{2},\qquad
               n = \frac{(R - R^T)^\vee}{2\sin(\sigma\tau)}
@@ -137,7 +137,7 @@ def _halfturn_inputs():
 
 def check_halfturn_axis(func):
     r"""Exercise 4.2: ``func(R)`` must return a unit axis ``n`` of a rotation by pi,
-    ``R + I = 2 n n^T`` (notebook 04, (4.15) and (4.16)); either sign is accepted.
+    ``R + I = 2 n n^T`` (notebook 04, (4.13) and (4.14)); either sign is accepted.
 
     Recognises a column that is not normalised, :math:`\pi n` in place of ``n``, and the
     zero column (NaN) that comes from always taking the first column.
@@ -202,7 +202,7 @@ def all_logs(R, bound):
 
     .. math:: \exp^{-1}(R) = \{(\theta + 2\pi k)\,n : k \in \mathbb Z\}
 
-    for a rotation of principal angle :math:`0 < \theta < \pi` (notebook 04, (4.13));
+    for a rotation of principal angle :math:`0 < \theta < \pi` (notebook 04, (4.12));
     the reference answer of exercise 4.3. Rows with ``k < 0`` point along ``-n`` and
     have length :math:`2\pi|k| - \theta`.
 

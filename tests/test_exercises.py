@@ -55,3 +55,30 @@ def test_values():
     assert not check_value([1.0, 2.0], [1.0, 2.0, 3.0], "v")
     assert check_value(1 + 1j, 1 + 1j, "z")
     assert not check_value(object(), 1.0, "x")
+
+
+def test_labelled_inputs_diagnosis_and_reference_name():
+    cases = [("the zero vector", ([0.0, 0.0, 0.0],)), ("a = (1, 2, 3)", ([1.0, 2.0, 3.0],))]
+
+    def diagnose(got, args):
+        return "You returned hat(a) squared." if np.allclose(got, so3lib.hat(args[0]) @ so3lib.hat(args[0])) else None
+
+    fb = check_function(lambda a: so3lib.hat(a) @ so3lib.hat(a), so3lib.hat, cases, "hat",
+                        diagnose=diagnose, hint="Build the matrix entry by entry.")
+    assert not fb
+    text = repr(fb)
+    assert "for a = (1, 2, 3)" in text and "You returned hat(a) squared." in text
+    assert text.endswith("Hint: Build the matrix entry by entry.")
+    ok = check_function(so3lib.hat, so3lib.hat, cases, "hat", reference_name="the reference")
+    assert ok and "agrees with the reference on 2 test inputs" in repr(ok)
+    raised = check_function(lambda a: a[5], so3lib.hat, cases, "hat")
+    assert "Calling it on the zero vector raised IndexError" in repr(raised)
+
+
+def test_diagnose_is_not_called_on_malformed_results():
+    def diagnose(got, args):
+        raise AssertionError("must not be called")
+
+    assert "shape" in repr(check_function(lambda a: np.zeros(2), so3lib.hat, INPUTS, "hat", diagnose=diagnose))
+    assert "NaN" in repr(check_function(lambda a: np.full((3, 3), np.nan), so3lib.hat, INPUTS, "hat",
+                                        diagnose=diagnose))

@@ -69,13 +69,13 @@ def _compare(got, expected, name, atol, rtol, hint, context=""):
                            f"{exp_arr.shape}.", hint)
     if not np.isfinite(got_arr).all():
         return _fail(name, f"The answer{where} contains NaN or inf: {_fmt(got_arr)}. Look for a "
-                           "division by zero (a small-angle case?).", hint)
+                           "division by zero (at a zero angle, or a half-turn?).", hint)
     if np.allclose(got_arr, exp_arr, atol=atol, rtol=rtol):
         return True
     diff = float(np.abs(got_arr - exp_arr).max())
     why = f"The answer{where} is {_fmt(got_arr)}; expected {_fmt(exp_arr)} (largest difference {diff:.2g})."
     if np.any(exp_arr != 0) and np.allclose(got_arr, -exp_arr, atol=atol, rtol=rtol):
-        why += " It is off by a sign: check the direction of rotation or the order of a product."
+        why += " It is off by a sign."
     elif exp_arr.ndim >= 2 and exp_arr.shape[-1] == exp_arr.shape[-2] and \
             np.allclose(got_arr, np.swapaxes(exp_arr, -1, -2), atol=atol, rtol=rtol):
         why += " It is the transpose of the expected matrix."
@@ -106,7 +106,18 @@ def check_value(answer, expected, name, atol=1e-8, rtol=1e-8, hint=None):
         return _fail(name, f"The answer could not be checked ({type(err).__name__}: {err}).", hint)
 
 
-def check_function(func, reference, inputs, name, atol=1e-10, rtol=1e-10, hint=None):
+def _labelled(inputs):
+    """Accept argument tuples, or ``(label, args)`` pairs that name the input in words."""
+    for item in inputs:
+        if isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str) \
+                and isinstance(item[1], tuple):
+            yield item
+        else:
+            yield None, tuple(item)
+
+
+def check_function(func, reference, inputs, name, atol=1e-10, rtol=1e-10, hint=None,
+                   diagnose=None, reference_name="so3lib"):
     """Call the learner's function on each input and compare with ``reference``.
 
     Parameters
@@ -115,33 +126,51 @@ def check_function(func, reference, inputs, name, atol=1e-10, rtol=1e-10, hint=N
         The learner's function. ``None``, ``...``, a function that raises
         ``NotImplementedError`` or returns ``None`` count as not written yet.
     reference : callable
-        The library function with the same signature.
+        The function with the same signature that gives the right answer.
     inputs : list of tuple
         Argument tuples to try, simplest first, so the message names the simplest input
-        on which the function goes wrong.
+        on which the function goes wrong. An item may also be ``(label, args)``: the
+        label ("a half-turn about z") then names the input instead of its numbers.
     name : str
         The function's name in the exercise, for the message.
+    hint : str, optional
+        Shown when the answer is wrong.
+    diagnose : callable, optional
+        ``diagnose(got, args)`` gets a wrong but well-formed result (a finite array of
+        the right shape) and returns a sentence naming the mistake it recognises, or
+        None.
+    reference_name : str
+        Whose answers the success message says it agrees with.
     """
     if func is None or func is Ellipsis:
         return _fail(name, _NOT_ANSWERED)
     if not callable(func):
         return _fail(name, f"Expected a function, got a {type(func).__name__}.")
-    for args in inputs:
-        shown = ", ".join(_fmt(a) for a in args)
+    cases = list(_labelled(inputs))
+    for label, args in cases:
+        shown = label or f"{name}({', '.join(_fmt(a) for a in args)})"
         try:
             got = func(*[np.array(a, copy=True) if isinstance(a, np.ndarray) else a for a in args])
         except NotImplementedError:
             return _fail(name, "Not written yet: the function still raises NotImplementedError.")
         except Exception as err:
-            return _fail(name, f"Calling {name}({shown}) raised {type(err).__name__}: {err}", hint)
+            return _fail(name, f"Calling it on {shown} raised {type(err).__name__}: {err}", hint)
         if got is None:
-            return _fail(name, f"{name}({shown}) returned None: is the `return` missing, or is "
+            return _fail(name, f"It returned None on {shown}: is the `return` missing, or is "
                                "the function not written yet?")
         try:
-            result = _compare(got, reference(*args), name, atol, rtol, hint, context=f"{name}({shown})")
+            expected = reference(*args)
+            result = _compare(got, expected, name, atol, rtol, None, context=shown)
+            if result is not True and diagnose is not None:
+                got_arr = np.asarray(got, dtype=float)
+                extra = diagnose(got_arr, args) if np.shape(got_arr) == np.shape(expected) \
+                    and np.isfinite(got_arr).all() else None
+                if extra:
+                    result = Feedback(False, f"{result.message} {extra}")
         except Exception as err:
-            return _fail(name, f"The result of {name}({shown}) could not be checked "
+            return _fail(name, f"The result on {shown} could not be checked "
                                f"({type(err).__name__}: {err}).", hint)
         if result is not True:
-            return result
-    return _ok(name, f"It agrees with so3lib on {len(inputs)} test input{'s' if len(inputs) != 1 else ''}.")
+            return Feedback(False, result.message + (f"\nHint: {hint}" if hint else ""))
+    count = f"{len(cases)} test input{'s' if len(cases) != 1 else ''}"
+    return _ok(name, f"It agrees with {reference_name} on {count}.")

@@ -68,8 +68,8 @@ def _not_a_rotation(M):
     """A sentence if ``M`` (finite, 3x3) is not a rotation, else None."""
     orth, det = rotation_defects(M)
     if orth > 1e-6 or abs(det - 1.0) > 1e-6:
-        return (f" It is not a rotation: max|M^T M - I| = {float(orth):.2g} and "
-                f"det M = {float(det):.4g}.")
+        return (f" It is not a rotation: for your matrix M, max|M^T M - I| = "
+                f"{float(orth):.2g} and det M = {float(det):.4g}.")
     return None
 
 
@@ -294,7 +294,7 @@ def _diagnose_mean(got, args):
     Rs, w = np.asarray(Rs, float), np.asarray(weights, float) / np.sum(weights)
     if _close(got, np.einsum("i,ijk->jk", w, Rs), 1e-8) or _close(got, Rs.mean(axis=0), 1e-8):
         return (" This is an entrywise mean of the matrices: it is not a rotation "
-                "(it lies inside the group, not on it).")
+                "(averaging the entries shrinks the matrix, as the blend (5.4) does).")
     bad = _not_a_rotation(got)
     if bad:
         return bad
@@ -303,10 +303,10 @@ def _diagnose_mean(got, args):
     if _close(got, _chordal_mean(Rs, w), 1e-8):
         return (" This is the chordal mean (the weighted entrywise mean projected onto "
                 "SO(3)). It is close, but the exercise asks for the geodesic mean, where the "
-                "weighted attitude errors Log(M^T R_i) sum to zero.")
+                "weighted attitude errors Log(R_bar^T R_i) sum to zero.")
     step = np.einsum("i,ij->j", w, log(got.T @ Rs))
-    return (f" At your answer the weighted mean attitude error sum_i w_i Log(M^T R_i) / "
-            f"sum_i w_i is {_fmt(step)}, not zero: iterate (5.9) until it is below 1e-12 "
+    return (f" At your answer R_bar the weighted mean attitude error "
+            f"sum_i w_i Log(R_bar^T R_i) / sum_i w_i is {_fmt(step)}, not zero: iterate (5.9) until it is below 1e-12 "
             f"(and divide by the sum of the weights, or the steps overshoot).")
 
 
@@ -314,5 +314,5 @@ def check_rotation_mean(func):
     """Exercise 5.4: ``rotation_mean(Rs, weights)`` returns the weighted geodesic mean."""
     return _run_cases(func, rotation_mean_reference, _mean_cases(), "rotation_mean", 1e-8,
                       _diagnose_mean,
-                      "Start from Rs[0]; repeat: step = sum_i w_i Log(M^T R_i) / sum_i w_i, "
-                      "M = M exp(step), until |step| < 1e-12.")
+                      "Start from R_bar = Rs[0]; repeat: step = sum_i w_i Log(R_bar^T R_i) / "
+                      "sum_i w_i, R_bar = R_bar exp(step), until |step| < 1e-12.")

@@ -21,6 +21,8 @@ reflections.  The logarithm of an accepted matrix at distance ``delta`` from SO(
 within about ``pi * delta`` of the logarithm of the nearest rotation (spec S23).
 """
 
+import math
+
 import numpy as np
 
 __all__ = [
@@ -41,6 +43,13 @@ ROTATION_TOL = 1e-6
 #: Relative tolerance of the skew-symmetry test in ``vee``: ``|M + M^T| <= SKEW_RTOL * |M|``.
 SKEW_RTOL = 1e-8
 
+# Batches are checked in blocks of this many matrices, so that the temporaries stay small
+# (in cache, and far below the size of the batch); arrays up to _SMALL entries are checked
+# in plain Python floats, which is quicker than NumPy's per-call overhead.
+_BLOCK = 4096
+_SMALL = 32
+_FLOAT64 = np.dtype(np.float64)
+
 
 def _index(idx):
     """Format a batch index tuple for a message: (2,) -> '[2]', () -> ''."""
@@ -54,12 +63,15 @@ def _as_real_array(x, name, func):
     except (ValueError, TypeError) as err:  # ragged nested lists and the like
         raise ValueError(f"{func} expects {name} as an array of real numbers; "
                          f"could not read it as an array ({err})") from None
-    if arr.dtype.kind == "c":
+    if arr.dtype == _FLOAT64:
+        return arr
+    kind = arr.dtype.kind
+    if kind == "c":
         raise ValueError(f"{func} expects {name} as real numbers; got complex values "
                          f"(dtype {arr.dtype})")
-    if arr.dtype.kind == "b":
+    if kind == "b":
         raise ValueError(f"{func} expects {name} as real numbers; got booleans")
-    if arr.dtype.kind not in "iuf":
+    if kind not in "iuf":
         try:
             arr = arr.astype(np.float64)
         except (ValueError, TypeError):
@@ -70,6 +82,16 @@ def _as_real_array(x, name, func):
 
 def _check_finite(arr, name, func):
     """Raise ValueError naming the first NaN or infinite entry of ``arr``."""
+    # Fast test first: a sum is finite only if every term is (a NaN or an infinity
+    # propagates), so one pass without a temporary array clears the usual case. A sum
+    # that overflows although every entry is finite falls through to the full test.
+    if arr.size <= _SMALL:
+        if all(map(math.isfinite, arr.ravel().tolist())):
+            return
+    else:
+        with np.errstate(over="ignore", invalid="ignore"):
+            if math.isfinite(np.add.reduce(arr, axis=None)):
+                return
     finite = np.isfinite(arr)
     if not finite.all():
         idx = tuple(np.argwhere(~finite)[0])
@@ -116,6 +138,8 @@ def as_times(tau, func, nonzero=False, name="tau"):
     With ``nonzero=True`` a zero time is refused: the logarithm divides by ``tau``.
     """
     arr = _as_real_array(tau, name, func)
+    if arr.ndim == 0 and math.isfinite(arr) and (arr != 0 or not nonzero):
+        return arr                              # the usual case, one number: done
     _check_finite(arr, name, func)
     if nonzero and (arr == 0).any():
         idx = tuple(np.argwhere(arr == 0)[0])
@@ -123,6 +147,46 @@ def as_times(tau, func, nonzero=False, name="tau"):
         raise ValueError(f"{func} divides by the time {name}, so {name} must be nonzero; "
                          f"got {name} = 0{where}")
     return arr
+
+
+def _defects(r, dim):
+    r"""The entries of :math:`R^T R - I` on and above the diagonal, and :math:`\det R`.
+
+    ``r`` holds the entries of ``R`` row by row (``r[3 * i + j]`` is :math:`R_{ij}` for
+    ``dim = 3``): plain floats for one matrix, or arrays of one entry across a block of
+    matrices. The same lines serve both, so one matrix and a batch get the same verdict.
+    """
+    if dim == 3:
+        r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
+        gram = (r00 * r00 + r10 * r10 + r20 * r20 - 1.0,      # (R^T R)_ij = col_i . col_j
+                r01 * r01 + r11 * r11 + r21 * r21 - 1.0,
+                r02 * r02 + r12 * r12 + r22 * r22 - 1.0,
+                r00 * r01 + r10 * r11 + r20 * r21,
+                r00 * r02 + r10 * r12 + r20 * r22,
+                r01 * r02 + r11 * r12 + r21 * r22)
+        det = (r00 * (r11 * r22 - r12 * r21) - r01 * (r10 * r22 - r12 * r20)
+               + r02 * (r10 * r21 - r11 * r20))               # cofactors of the first row
+    else:
+        r00, r01, r10, r11 = r
+        gram = (r00 * r00 + r10 * r10 - 1.0, r01 * r01 + r11 * r11 - 1.0,
+                r00 * r01 + r10 * r11)
+        det = r00 * r11 - r01 * r10
+    return gram, det
+
+
+def _block_defects(block, dim):
+    """``orth`` and ``det`` of a block of matrices, shape (m, dim, dim), as arrays (m,)."""
+    gram, det = _defects(block.reshape(len(block), dim * dim).T.copy(), dim)
+    orth = np.abs(gram[0])
+    for g in gram[1:]:
+        np.maximum(orth, np.abs(g), out=orth)
+    return orth, det
+
+
+def _flat_blocks(R, dim):
+    """``R`` as a stack (M, dim, dim) (a view when it can be) and the block starts."""
+    flat = R.reshape(-1, dim, dim)
+    return flat, range(0, len(flat), _BLOCK)
 
 
 def rotation_defects(R):
@@ -136,9 +200,38 @@ def rotation_defects(R):
         :math:`\det R`.
     """
     dim = R.shape[-1]
-    gram = np.einsum("...ki,...kj->...ij", R, R)
-    orth = np.abs(gram - np.eye(dim)).max(axis=(-2, -1))
-    return orth, np.linalg.det(R)
+    if dim not in (2, 3):
+        gram = np.einsum("...ki,...kj->...ij", R, R)
+        orth = np.abs(gram - np.eye(dim)).max(axis=(-2, -1))
+        return orth, np.linalg.det(R)
+    if R.size == dim * dim:                     # one matrix: plain floats
+        gram, det = _defects(R.ravel().tolist(), dim)
+        orth, det = np.array([max(map(abs, gram))]), np.array([det])
+        return orth.reshape(R.shape[:-2])[()], det.reshape(R.shape[:-2])[()]
+    flat, starts = _flat_blocks(R, dim)
+    orth, det = np.empty(len(flat)), np.empty(len(flat))
+    for i in starts:
+        orth[i:i + _BLOCK], det[i:i + _BLOCK] = _block_defects(flat[i:i + _BLOCK], dim)
+    batch = R.shape[:-2]
+    return orth.reshape(batch)[()], det.reshape(batch)[()]
+
+
+def _first_failure(R, tol):
+    """Flat index, ``orth`` and ``det`` of the first matrix of ``R`` that is not a rotation
+    within ``tol``, or None. Works block by block; one matrix is done in plain floats."""
+    dim = R.shape[-1]
+    if R.size == dim * dim:
+        gram, det = _defects(R.ravel().tolist(), dim)
+        orth = max(map(abs, gram))
+        return (0, orth, det) if orth > tol or abs(det - 1.0) > tol else None
+    flat, starts = _flat_blocks(R, dim)
+    for i in starts:
+        orth, det = _block_defects(flat[i:i + _BLOCK], dim)
+        bad = (orth > tol) | (np.abs(det - 1.0) > tol)
+        if bad.any():
+            k = int(np.argmax(bad))
+            return i + k, float(orth[k]), float(det[k])
+    return None
 
 
 def check_rotation(R, tol, func, name="R"):
@@ -146,12 +239,11 @@ def check_rotation(R, tol, func, name="R"):
 
     The message names the first failing matrix of a batch and what was measured.
     """
-    orth, det = rotation_defects(R)
-    bad = (orth > tol) | (np.abs(det - 1.0) > tol)
-    if not bad.any():
+    failure = _first_failure(R, tol)
+    if failure is None:
         return
-    idx = tuple(np.argwhere(bad)[0]) if bad.ndim else ()
-    o, d = float(orth[idx]), float(det[idx])
+    k, o, d = failure
+    idx = tuple(int(i) for i in np.unravel_index(k, R.shape[:-2]))
     which = f"{name}{_index(idx)}" if idx else name
     expected = (f"{func} expects rotation matrices: {name}^T {name} = I and det {name} = +1 "
                 f"within tol={tol:g}")
@@ -196,6 +288,6 @@ def as_tolerance(tol, func):
         value = float(tol)
     except (TypeError, ValueError):
         raise ValueError(f"{func} expects tol as a nonnegative number; got {tol!r}") from None
-    if not np.isfinite(value) or value < 0:
+    if not math.isfinite(value) or value < 0:
         raise ValueError(f"{func} expects tol as a finite nonnegative number; got {tol!r}")
     return value

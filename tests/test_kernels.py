@@ -1,0 +1,86 @@
+"""The batched kernels give the same bits as one-rotation calls, on the hard cases too.
+
+``exp``, ``log`` and ``angle`` compute a few rotations in plain floats and a batch in
+blocks of ``so3lib.so3._BLOCK`` rotations; the accuracy tests (test_accuracy.py) call
+them one rotation at a time. Here the hard cases, and rotation vectors too long to square
+(|phi| > 1e154), go through the blocks, mixed with ordinary rotations and placed on both
+sides of a block boundary, and must come out identical.
+"""
+
+import numpy as np
+import pytest
+
+import so3lib
+from cases import half_turns, hard_cases
+from reference import exp_ref
+from so3lib import so3
+
+HUGE = [s * np.array(n) for s in (1e146, 1e200, 1e300)
+        for n in ([1.0, 0.0, 0.0], [0.3, -0.5, 0.8], [-1.0, 2.0, 3.0])]
+PHIS = np.array([phi for _, phi in hard_cases()] + HUGE)
+ROTATIONS = np.array([exp_ref(phi) for _, phi in hard_cases()] + [R for *_, R in half_turns()])
+
+
+def scatter(cases, ordinary):
+    """``cases`` placed among ``ordinary`` rows, the first two on a block boundary."""
+    n = len(ordinary)
+    rng = np.random.default_rng(7)
+    others = np.setdiff1d(np.arange(n), [so3._BLOCK - 1, so3._BLOCK])
+    where = np.concatenate([[so3._BLOCK - 1, so3._BLOCK],
+                            rng.choice(others, len(cases) - 2, replace=False)])
+    batch = ordinary.copy()
+    batch[where] = cases
+    return batch, where
+
+
+@pytest.mark.parametrize("tau", [1.0, 0.5, -3.0])
+def test_exp_batch_equals_single_calls(rng, tau):
+    phi, where = scatter(PHIS, rng.standard_normal((2 * so3._BLOCK + 37, 3)) * 2)
+    R = so3lib.exp(phi, tau)
+    assert not np.isnan(R).any()
+    for k in np.concatenate([where, [0, len(phi) - 1]]):
+        assert np.array_equal(R[k], so3lib.exp(phi[k], tau)), k
+
+
+def test_exp_of_huge_vectors_is_a_rotation():
+    R = so3lib.exp(np.array(HUGE))
+    assert so3lib.is_rotation(R, tol=8 * np.finfo(float).eps).all()
+
+
+@pytest.mark.parametrize("tau", [1.0, -2.5])
+def test_log_and_angle_batch_equal_single_calls(rng, tau):
+    R, where = scatter(ROTATIONS, so3lib.random_rotation(rng, 2 * so3._BLOCK + 37))
+    L, theta = so3lib.log(R, tau), so3lib.angle(R)
+    assert not np.isnan(L).any() and not np.isnan(theta).any()
+    for k in np.concatenate([where, [0, len(R) - 1]]):
+        assert np.array_equal(L[k], so3lib.log(R[k], tau)), k
+        assert theta[k] == so3lib.angle(R[k]), k
+
+
+def test_few_rotations_equal_their_batch(rng):
+    """Up to so3._FEW rotations take the plain-float path; the blocks give the same."""
+    phi = rng.standard_normal((so3._FEW + 1, 3)) * 2
+    assert np.array_equal(so3lib.exp(phi[:-1]), so3lib.exp(phi)[:-1])
+    R = so3lib.exp(phi)
+    assert np.array_equal(so3lib.log(R[:-1]), so3lib.log(R)[:-1])
+    assert np.array_equal(so3lib.angle(R[:-1]), so3lib.angle(R)[:-1])
+
+
+def test_rotation_check_names_the_first_bad_matrix_in_a_later_block(rng):
+    R = so3lib.random_rotation(rng, 2 * so3._BLOCK + 5)
+    R[so3._BLOCK + 3] = np.diag([1.0, 1.0, -1.0])
+    R[2 * so3._BLOCK + 1] = 2 * np.eye(3)
+    with pytest.raises(ValueError, match=rf"R\[{so3._BLOCK + 3}\] has det = -1"):
+        so3lib.log(R)
+    ok = so3lib.is_rotation(R)
+    assert np.flatnonzero(~ok).tolist() == [so3._BLOCK + 3, 2 * so3._BLOCK + 1]
+
+
+def test_exp_overflow_is_reported_from_a_batch(rng):
+    omega = rng.standard_normal((so3._BLOCK + 10, 3))
+    omega[so3._BLOCK + 4] = [1e200, 0.0, 0.0]
+    with pytest.raises(ValueError, match="rotation vector omega \\* tau overflows"):
+        so3lib.exp(omega, 1e200)
+    omega[so3._BLOCK + 4] = [1.5e308, 1.5e308, 1.5e308]
+    with pytest.raises(ValueError, match="rotation angle .* overflows"):
+        so3lib.exp(omega)

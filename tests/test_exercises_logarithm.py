@@ -56,7 +56,7 @@ def test_sigma_and_axis_wrong_answers_get_a_message(sigma, n, says):
     _says(check_sigma_and_axis(sigma, n), says)
 
 
-# ----------------------------------------------------------------------- exercise 4.2
+# ----------------------------------------------------------------------- exercise 4.3
 
 def _halfturn_axis(R):
     j = int(np.argmax(np.diag(R)))
@@ -95,7 +95,7 @@ def test_halfturn_axis_wrong_answers_get_a_message(student, says):
     _says(check_halfturn_axis(student), says)
 
 
-# ----------------------------------------------------------------------- exercise 4.3
+# ----------------------------------------------------------------------- exercise 4.2
 
 def _all_logs(R, bound):
     phi = so3lib.log(R)

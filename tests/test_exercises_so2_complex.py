@@ -9,7 +9,7 @@ import pytest
 
 from so3lib import so2
 from so3lib.exercises import Feedback
-from so3lib.exercises.so2_complex import (ALPHA, OMEGA0, T_END, check_quaternion,
+from so3lib.exercises.so2_complex import (ACCEL, OMEGA0, T_END, check_quaternion,
                                           check_so2_log, check_varying_rate, quaternion)
 
 
@@ -58,7 +58,7 @@ def test_so2_log_wrapping_is_required():
 # ----------------------------------------------------------------------- exercise 3.2
 
 def test_varying_rate_right_answer_passes():
-    alpha = OMEGA0 * T_END + ALPHA * T_END ** 2 / 2
+    alpha = OMEGA0 * T_END + ACCEL * T_END ** 2 / 2
     assert check_varying_rate(so2.exp(alpha))
     assert check_varying_rate(so2.exp(alpha).tolist())
 
@@ -69,7 +69,7 @@ def test_varying_rate_right_answer_passes():
     (np.eye(3), r"shape \(3, 3\); expected shape \(2, 2\)"),
     (np.full((2, 2), np.nan), "NaN or inf"),
     (3.0, "You gave a number \\(and that angle is right\\)"),
-    (so2.exp((OMEGA0 + ALPHA * T_END) * T_END), "the rate at the end times T"),
+    (so2.exp((OMEGA0 + ACCEL * T_END) * T_END), "the rate at the end times T"),
     (so2.exp(OMEGA0 * T_END), "the rate at the start times T"),
     (so2.exp(-3.0), "transpose"),
     ("R", "not a number"),

@@ -6,11 +6,11 @@ exercise       the learner writes                          checker
 4.1            ``sigma`` and ``n`` for the rotation        :func:`check_sigma_and_axis`
                ``R41`` reached in ``TAU41`` seconds, by
                the lecture notes' method
-4.2            ``halfturn_axis(R)``, the unit axis of a    :func:`check_halfturn_axis`
-               rotation by pi (either sign)
-4.3            ``all_logs(R, bound)``, every rotation      :func:`check_all_logs`
+4.2            ``all_logs(R, bound)``, every rotation      :func:`check_all_logs`
                vector of length below ``bound`` whose
                exponential is ``R``, one per row
+4.3            ``halfturn_axis(R)``, the unit axis of a    :func:`check_halfturn_axis`
+               rotation by pi (either sign)
 4.4            ``log_at_pi(n)``, the logarithm that        :func:`check_log_at_pi`
                ``so3lib.log`` returns for the half-turn
                ``2 n n^T - I``
@@ -108,7 +108,7 @@ def check_sigma_and_axis(sigma, n):
         return _not_checked("sigma and n", err)
 
 
-# --------------------------------------------------------------------------- 4.2
+# --------------------------------------------------------------------------- 4.3
 
 def _halfturn(n):
     n = np.asarray(n, dtype=float)
@@ -136,7 +136,7 @@ def _halfturn_inputs():
 
 
 def check_halfturn_axis(func):
-    r"""Exercise 4.2: ``func(R)`` must return a unit axis ``n`` of a rotation by pi,
+    r"""Exercise 4.3: ``func(R)`` must return a unit axis ``n`` of a rotation by pi,
     ``R + I = 2 n n^T`` (notebook 04, (4.13) and (4.14)); either sign is accepted.
 
     Recognises a column that is not normalised, :math:`\pi n` in place of ``n``, and the
@@ -194,7 +194,7 @@ def check_halfturn_axis(func):
         return _not_checked(name, err)
 
 
-# --------------------------------------------------------------------------- 4.3
+# --------------------------------------------------------------------------- 4.2
 
 def all_logs(R, bound):
     r"""Every rotation vector :math:`\varphi` with :math:`e^{\hat\varphi} = R` and
@@ -203,7 +203,7 @@ def all_logs(R, bound):
     .. math:: \exp^{-1}(R) = \{(\theta + 2\pi k)\,n : k \in \mathbb Z\}
 
     for a rotation of principal angle :math:`0 < \theta < \pi` (notebook 04, (4.12));
-    the reference answer of exercise 4.3. Rows with ``k < 0`` point along ``-n`` and
+    the reference answer of exercise 4.2. Rows with ``k < 0`` point along ``-n`` and
     have length :math:`2\pi|k| - \theta`.
 
     Parameters
@@ -245,7 +245,7 @@ def _match_rows(got, expected, atol=1e-8):
 
 
 def check_all_logs(func):
-    r"""Exercise 4.3: ``func(R, bound)`` must return, one per row and in any order, every
+    r"""Exercise 4.2: ``func(R, bound)`` must return, one per row and in any order, every
     :math:`(\theta + 2\pi k)\,n` shorter than ``bound``.
 
     Recognises the usual slip: only ``k >= 0``, forgetting the logarithms that point along

@@ -22,11 +22,12 @@ from .. import so2
 from . import Feedback, check_function, check_value
 
 __all__ = ["check_so2_log", "check_varying_rate", "check_quaternion", "quaternion",
-           "OMEGA0", "ALPHA", "T_END"]
+           "OMEGA0", "ACCEL", "T_END"]
 
-#: Exercise 3.2: the rate starts at OMEGA0 (rad/s) and grows by ALPHA (rad/s^2) ...
+#: Exercise 3.2: the rate starts at OMEGA0 = omega_0 (rad/s) and grows by ACCEL = a
+#: (rad/s every second, rad/s^2) ...
 OMEGA0 = 0.5
-ALPHA = 2.0
+ACCEL = 2.0
 #: ... until T_END (s).
 T_END = 1.5
 
@@ -100,7 +101,7 @@ def check_varying_rate(answer):
     angle handed in instead of the matrix.
     """
     name = "the rotation R_end at t = T_END"
-    alpha = OMEGA0 * T_END + 0.5 * ALPHA * T_END ** 2
+    alpha = OMEGA0 * T_END + 0.5 * ACCEL * T_END ** 2
     expected = so2.exp(alpha)
     hint = ("Integrate the rate: alpha = int_0^T (omega0 + a t) dt = omega0 T + a T^2 / 2, "
             "then R_end = so2.exp(alpha).")
@@ -119,7 +120,7 @@ def check_varying_rate(answer):
                                        "exercise asks for the 2x2 rotation matrix: pass the "
                                        "angle to so2.exp.")
             if arr.shape == (2, 2):
-                for label, wrong in (("the rate at the end times T", (OMEGA0 + ALPHA * T_END) * T_END),
+                for label, wrong in (("the rate at the end times T", (OMEGA0 + ACCEL * T_END) * T_END),
                                      ("the rate at the start times T", OMEGA0 * T_END)):
                     if np.allclose(arr, so2.exp(wrong), atol=1e-8):
                         hint = (f"Your matrix turns by {wrong:g} rad, {label}. The rate changes "

@@ -50,6 +50,12 @@ def test_hat_wrong_answers_get_a_message(student, pattern):
     _says(check_hat(student), "hat_matrix", pattern)
 
 
+def test_hat_message_shows_no_negative_zero():
+    # hat((1, 0, 0)) holds -0.0 entries; "-0." in a message reads like a sign error
+    text = repr(check_hat(lambda a: so3lib.hat(a).T))
+    assert "off by a sign" in text and "-0." not in text, text
+
+
 # ------------------------------------------------------------------ 1.2 fifth power
 
 def test_fifth_power_right_answer_passes():

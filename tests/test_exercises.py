@@ -82,3 +82,8 @@ def test_diagnose_is_not_called_on_malformed_results():
     assert "shape" in repr(check_function(lambda a: np.zeros(2), so3lib.hat, INPUTS, "hat", diagnose=diagnose))
     assert "NaN" in repr(check_function(lambda a: np.full((3, 3), np.nan), so3lib.hat, INPUTS, "hat",
                                         diagnose=diagnose))
+
+
+def test_messages_show_no_negative_zeros():
+    fb = check_value(np.array([[-0.0, 1.0], [0.0, 2.0]]), np.eye(2), "M")
+    assert "-0." not in repr(fb)

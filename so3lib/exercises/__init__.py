@@ -48,6 +48,8 @@ def _fail(name, why, hint=None):
 
 def _fmt(x):
     arr = np.asarray(x)
+    if arr.dtype.kind in "fc":
+        arr = arr + 0.0          # -0.0 -> 0.0: a printed "-0." looks like a sign error
     if arr.ndim == 0:
         return f"{arr.item():.6g}"
     return np.array2string(arr, precision=4, suppress_small=True, separator=", ")

@@ -13,13 +13,16 @@ export PYTHONHASHSEED := 0
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sanitize.cfg
 
-.PHONY: help lab test test-lib test-notebooks execute bench clean
+.PHONY: help lab test test-lib test-notebooks test-browser execute bench slides book student clean
 
 help:
 	@echo "make lab      open the course in JupyterLab (sets up .venv the first time)"
-	@echo "make test     run every test: the library and every notebook (strict nbval)"
+	@echo "make test     run every test: library, notebooks (strict nbval), editions, browser"
 	@echo "make execute  re-run every notebook in place, top to bottom in a fresh kernel"
 	@echo "make bench    time so3lib's exp and log against scipy"
+	@echo "make slides   a reveal.js deck per notebook in build/slides/ (presents offline)"
+	@echo "make book     the course as a web site, build/book/index.html (reads offline)"
+	@echo "make student  the notebooks without worked solutions, in build/student/"
 	@echo "make clean    remove .venv, build/ and caches"
 
 $(STAMP): environment.txt pyproject.toml
@@ -42,6 +45,10 @@ test-lib: $(STAMP)
 test-notebooks: $(STAMP)
 	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) $(NOTEBOOKS)
 
+# Only the tests that drive Chromium: slides, book and JupyterLab.
+test-browser: $(STAMP)
+	$(BIN)/python -m pytest -n 2 --dist loadfile tests/test_browser.py tests/test_book.py
+
 execute: $(STAMP)
 	$(BIN)/jupyter nbconvert --to notebook --execute --inplace \
 	    --ExecutePreprocessor.timeout=300 --ExecutePreprocessor.kernel_name=python3 \
@@ -49,6 +56,17 @@ execute: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python tests/benchmark.py
+
+# The other editions (tools/): each fetches reveal.js / MathJax from the npm registry the
+# first time (into build/npm/) and rebuilds only what changed.
+slides: $(STAMP)
+	$(BIN)/python -m tools.slides
+
+book: $(STAMP)
+	$(BIN)/python -m tools.book
+
+student: $(STAMP)
+	$(BIN)/python -m tools.student
 
 clean:
 	rm -rf $(VENV) build .pytest_cache .hypothesis

@@ -1,0 +1,112 @@
+"""The JavaScript that slides and book load, fetched from the npm registry at build time.
+
+Slides and book must work in a lecture hall with no network, so everything they load sits
+next to the HTML. Each package is fetched once with `npm pack NAME@VERSION` into a cache
+(build/npm/), checked against the sha512 integrity pinned below, and only the files a page
+needs are unpacked next to it. The browser never fetches anything.
+"""
+
+import base64
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import tarfile
+import tempfile
+from fnmatch import fnmatch
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+CACHE = ROOT / "build" / "npm"
+
+# name: (version, npm integrity of the tarball). To upgrade: change both (`npm view
+# NAME@VERSION dist.integrity`), run `make slides book`, then `make test`.
+PACKAGES = {
+    "reveal.js": ("4.0.2", "sha512-LWZSUenufF1gpD7npxJ7KfoQQFKgc1D6XrLTFgKlwWNP1BQ74hT48KONFWMAw+8R/QUeaScCLCLrBVHDfFIEiw=="),
+    "mathjax": ("2.7.7", "sha512-OOl0B2/0tSJAtAZarXnQuLDBLgTNRqiI9VqHTQzPsxf4okT2iIpDrvaklK9x2QEMD1sDj4yRn11Ygci41DxMAQ=="),
+    "jquery": ("3.7.1", "sha512-m4avr8yL8kmFN8psrbFFFmB/If14iN5o9nw/NgnnM+kybDJpRsAynV2BsfpTYrTRysYUdADVD7CkUUizgkpLfg=="),
+    "requirejs": ("2.3.7", "sha512-DouTG8T1WanGok6Qjg2SXuCMzszOo0eHeH9hDZ5Y4x8Je+9JB38HdTLT4/VA8OaUhBa0JPVHJ0pyBkM1z+pDsw=="),
+}
+
+# The files each page needs, as glob patterns inside the package. MathJax is trimmed to
+# the TeX input, the CommonHTML output and its web fonts (about 4 MB instead of 70 MB).
+FILES = {
+    "reveal.js": ["LICENSE", "dist/*", "plugin/notes/*"],
+    "mathjax": [
+        "LICENSE", "MathJax.js", "config/TeX-AMS_CHTML-full.js", "config/Safe.js",
+        "extensions/*", "jax/input/TeX/*", "jax/element/*", "jax/output/CommonHTML/*",
+        "fonts/HTML-CSS/TeX/woff/*",
+    ],
+    "jquery": ["LICENSE.txt", "dist/jquery.min.js"],
+    "requirejs": ["README.md", "require.js"],
+}
+
+# What a page's <script> and <link> point at, relative to the directory the assets go in.
+MATHJAX_JS = "mathjax/MathJax.js?config=TeX-AMS_CHTML-full,Safe"
+REQUIRE_JS = "requirejs/require.js"
+JQUERY_JS = "jquery/dist/jquery.min.js"
+REVEAL_PREFIX = "reveal.js"
+
+
+def _sri(path):
+    digest = hashlib.sha512(Path(path).read_bytes()).digest()
+    return "sha512-" + base64.b64encode(digest).decode()
+
+
+def tarball(name):
+    """Path of NAME's tarball in the cache, fetched with `npm pack` if it is not there yet."""
+    version, integrity = PACKAGES[name]
+    CACHE.mkdir(parents=True, exist_ok=True)
+    target = CACHE / f"{name}-{version}.tgz"
+    if target.exists() and _sri(target) == integrity:
+        return target
+    npm = shutil.which("npm")
+    if npm is None:
+        raise SystemExit("npm (Node.js) is needed once, to fetch reveal.js and MathJax from "
+                         "the npm registry: install Node.js, or copy build/npm/ from a "
+                         "machine that has built the slides.")
+    # Fetch into a private directory and move into place: two builds running at once
+    # (two test workers) never see a half-written tarball.
+    with tempfile.TemporaryDirectory(dir=CACHE) as tmp:
+        out = subprocess.run([npm, "pack", f"{name}@{version}", "--json", "--silent",
+                              "--pack-destination", tmp],
+                             capture_output=True, text=True, cwd=tmp)
+        if out.returncode != 0:
+            raise SystemExit(f"npm pack {name}@{version} failed:\n{out.stderr}")
+        filename = json.loads(out.stdout)[0]["filename"]
+        got = Path(tmp) / filename
+        if _sri(got) != integrity:
+            raise SystemExit(f"{name}@{version}: the tarball's sha512 is not the pinned one")
+        os.replace(got, target)
+    return target
+
+
+def install(dest, names):
+    """Unpack the needed files of each package into DEST/<name>/; returns DEST."""
+    dest = Path(dest)
+    for name in names:
+        patterns = FILES[name]
+        pkg_dir = dest / name
+        stamp = pkg_dir / ".unpacked"
+        wanted = f"{name}@{PACKAGES[name][0]} {PACKAGES[name][1]} {patterns}"
+        if stamp.exists() and stamp.read_text() == wanted:
+            continue
+        if pkg_dir.exists():
+            shutil.rmtree(pkg_dir)
+        with tarfile.open(tarball(name)) as tar:
+            for member in tar.getmembers():
+                rel = member.name.removeprefix("package/")
+                if not member.isfile() or not any(fnmatch(rel, p) for p in patterns):
+                    continue
+                out = pkg_dir / rel
+                out.parent.mkdir(parents=True, exist_ok=True)
+                with tar.extractfile(member) as src, open(out, "wb") as dst:
+                    shutil.copyfileobj(src, dst)
+        stamp.write_text(wanted)
+    return dest
+
+
+if __name__ == "__main__":
+    for n in PACKAGES:
+        print(tarball(n))

@@ -137,9 +137,9 @@ def as_times(tau, func, nonzero=False, name="tau"):
 
     With ``nonzero=True`` a zero time is refused: the logarithm divides by ``tau``.
     """
+    if type(tau) is float and math.isfinite(tau) and (tau != 0.0 or not nonzero):
+        return np.array(tau)                    # the usual case, one number: done
     arr = _as_real_array(tau, name, func)
-    if arr.ndim == 0 and math.isfinite(arr) and (arr != 0 or not nonzero):
-        return arr                              # the usual case, one number: done
     _check_finite(arr, name, func)
     if nonzero and (arr == 0).any():
         idx = tuple(np.argwhere(arr == 0)[0])

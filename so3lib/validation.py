@@ -43,10 +43,12 @@ ROTATION_TOL = 1e-6
 #: Relative tolerance of the skew-symmetry test in ``vee``: ``|M + M^T| <= SKEW_RTOL * |M|``.
 SKEW_RTOL = 1e-8
 
-# Batches are checked in blocks of this many matrices, so that the temporaries stay small
-# (in cache, and far below the size of the batch); arrays up to _SMALL entries are checked
-# in plain Python floats, which is quicker than NumPy's per-call overhead.
+# Batches are checked in blocks of _BLOCK matrices, so that the temporaries stay small (in
+# cache, and far below the size of the batch). Up to _FEW matrices, and arrays of up to
+# _SMALL numbers, are checked in plain floats, which is quicker than NumPy's overhead per
+# call; both paths compute the same numbers.
 _BLOCK = 4096
+_FEW = 8
 _SMALL = 32
 _FLOAT64 = np.dtype(np.float64)
 
@@ -174,19 +176,19 @@ def _defects(r, dim):
     return gram, det
 
 
-def _block_defects(block, dim):
-    """``orth`` and ``det`` of a block of matrices, shape (m, dim, dim), as arrays (m,)."""
-    gram, det = _defects(block.reshape(len(block), dim * dim).T.copy(), dim)
+def _block_defects(rows, dim):
+    """``orth`` and ``det`` of a block of matrices given as rows of entries, as arrays."""
+    gram, det = _defects(rows.T.copy(), dim)   # one contiguous array per entry
     orth = np.abs(gram[0])
     for g in gram[1:]:
         np.maximum(orth, np.abs(g), out=orth)
     return orth, det
 
 
-def _flat_blocks(R, dim):
-    """``R`` as a stack (M, dim, dim) (a view when it can be) and the block starts."""
-    flat = R.reshape(-1, dim, dim)
-    return flat, range(0, len(flat), _BLOCK)
+def _few_defects(rows, dim):
+    """``orth`` and ``det`` of a few matrices given as rows of entries, as lists of floats."""
+    found = [_defects(r, dim) for r in rows.tolist()]
+    return [max(map(abs, gram)) for gram, _ in found], [det for _, det in found]
 
 
 def rotation_defects(R):
@@ -204,29 +206,29 @@ def rotation_defects(R):
         gram = np.einsum("...ki,...kj->...ij", R, R)
         orth = np.abs(gram - np.eye(dim)).max(axis=(-2, -1))
         return orth, np.linalg.det(R)
-    if R.size == dim * dim:                     # one matrix: plain floats
-        gram, det = _defects(R.ravel().tolist(), dim)
-        orth, det = np.array([max(map(abs, gram))]), np.array([det])
-        return orth.reshape(R.shape[:-2])[()], det.reshape(R.shape[:-2])[()]
-    flat, starts = _flat_blocks(R, dim)
-    orth, det = np.empty(len(flat)), np.empty(len(flat))
-    for i in starts:
-        orth[i:i + _BLOCK], det[i:i + _BLOCK] = _block_defects(flat[i:i + _BLOCK], dim)
+    rows = R.reshape(-1, dim * dim)             # each matrix as a row of entries
+    if len(rows) <= _FEW:
+        orth, det = map(np.array, _few_defects(rows, dim))
+    else:
+        orth, det = np.empty(len(rows)), np.empty(len(rows))
+        for i in range(0, len(rows), _BLOCK):
+            orth[i:i + _BLOCK], det[i:i + _BLOCK] = _block_defects(rows[i:i + _BLOCK], dim)
     batch = R.shape[:-2]
     return orth.reshape(batch)[()], det.reshape(batch)[()]
 
 
 def _first_failure(R, tol):
     """Flat index, ``orth`` and ``det`` of the first matrix of ``R`` that is not a rotation
-    within ``tol``, or None. Works block by block; one matrix is done in plain floats."""
+    within ``tol``, or None. Block by block, stopping at the first failing block."""
     dim = R.shape[-1]
-    if R.size == dim * dim:
-        gram, det = _defects(R.ravel().tolist(), dim)
-        orth = max(map(abs, gram))
-        return (0, orth, det) if orth > tol or abs(det - 1.0) > tol else None
-    flat, starts = _flat_blocks(R, dim)
-    for i in starts:
-        orth, det = _block_defects(flat[i:i + _BLOCK], dim)
+    rows = R.reshape(-1, dim * dim)
+    if len(rows) <= _FEW:
+        for k, (orth, det) in enumerate(zip(*_few_defects(rows, dim))):
+            if orth > tol or abs(det - 1.0) > tol:
+                return k, orth, det
+        return None
+    for i in range(0, len(rows), _BLOCK):
+        orth, det = _block_defects(rows[i:i + _BLOCK], dim)
         bad = (orth > tol) | (np.abs(det - 1.0) > tol)
         if bad.any():
             k = int(np.argmax(bad))

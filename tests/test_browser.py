@@ -1,0 +1,258 @@
+"""The lecture slides and JupyterLab in a real browser (Chromium, driven by Playwright).
+
+Each deck is built once per session (tools/slides.py, into build/slides/), opened
+from file:// with every network request blocked, and must start reveal.js, typeset its
+math and move on arrow keys. JupyterLab is started the way `make lab` starts it, opens
+notebook 01, runs every cell and must show no error output. Screenshots of each go to
+build/screenshots/. Without Chromium these tests are skipped (see browser_support.py).
+"""
+
+import hashlib
+import json
+import os
+import re
+import secrets
+import signal
+import socket
+import subprocess
+import time
+import urllib.request
+
+import nbformat
+import pytest
+from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
+
+from browser_support import (MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, launch,
+                             require_chromium, screenshot)
+from tools import slides
+from tools.common import course_notebooks, read
+
+pytestmark = pytest.mark.browser
+
+NOTEBOOKS = course_notebooks()
+SLIDE_TYPES = {"slide", "subslide", "fragment", "skip", "notes", "-"}
+
+
+@pytest.fixture(scope="session")
+def browser():
+    require_chromium()
+    from playwright.sync_api import sync_playwright
+    with sync_playwright() as p:
+        b = launch(p)
+        yield b
+        b.close()
+
+
+def _build(what, *args):
+    try:
+        return what(*args)
+    except SystemExit as e:  # npm missing or the registry unreachable
+        if os.environ.get("CI"):
+            pytest.fail(str(e))
+        pytest.skip(str(e))
+
+
+@pytest.fixture(scope="session")
+def decks():
+    out = ROOT / "build" / "slides"  # what `make slides` writes; only changed decks are rebuilt
+    return {p.name.removesuffix(".slides.html"): p for p in _build(slides.build, out)}
+
+
+def _open_deck(browser, path):
+    offline = Offline(browser)
+    page = offline.new_page()
+    page.set_default_timeout(20_000)
+    page.goto(path.as_uri())
+    page.wait_for_function("window.Reveal && Reveal.isReady()")
+    page.wait_for_function(MATHJAX_IDLE)
+    return offline, page
+
+
+def _indices(page):
+    return page.evaluate("JSON.stringify(Reveal.getIndices())")
+
+
+def _press(page, key):
+    before = _indices(page)
+    page.keyboard.press(key)
+    page.wait_for_function(f"JSON.stringify(Reveal.getIndices()) !== {json.dumps(before)}")
+    return _indices(page)
+
+
+def test_every_cell_has_a_slide_type():
+    """The decks are cut by the cells' slideshow metadata, so every cell needs one."""
+    missing = [f"{p.name} cell {i}: {c.metadata.get('slideshow')}"
+               for p in NOTEBOOKS for i, c in enumerate(read(p).cells)
+               if c.metadata.get("slideshow", {}).get("slide_type") not in SLIDE_TYPES]
+    assert not missing, "cells without a valid slide_type:\n" + "\n".join(missing)
+
+
+@pytest.mark.parametrize("name", [p.stem for p in NOTEBOOKS])
+def test_deck_presents_offline(browser, decks, name):
+    offline, page = _open_deck(browser, decks[name])
+    total = page.evaluate("Reveal.getTotalSlides()")
+    assert total >= 2, f"{name}: only {total} slide"
+    jax = page.evaluate("MathJax.Hub.getAllJax().length")
+    typeset = page.locator(".MathJax_CHTML").count()
+    assert jax > 0 and typeset == jax, f"{name}: {typeset} of {jax} formulas typeset"
+    assert page.locator(MATHJAX_ERRORS).count() == 0, f"{name}: MathJax reports a TeX error"
+    first = _indices(page)
+    second = _press(page, "ArrowRight")
+    assert second != first
+    screenshot(page, f"slides_{name}")
+    assert _press(page, "ArrowLeft") == first
+    assert not offline.problems(), offline.problems()
+    offline.close()
+
+
+def _meta(cell, slide_type):
+    cell.metadata["slideshow"] = {"slide_type": slide_type}
+    return cell
+
+
+def test_slide_types_and_speaker_notes(browser, tmp_path):
+    """skip, notes, fragment and subslide do what the lecturer expects; S opens the notes."""
+    nb = new_notebook(cells=[
+        _meta(new_markdown_cell("# A deck\n\nEuler: $e^{i\\pi} + 1 = 0$"), "slide"),
+        _meta(new_markdown_cell("Say that it links five constants."), "notes"),
+        _meta(new_code_cell("hidden = 'SETUP-CELL-NOT-ON-A-SLIDE'"), "skip"),
+        _meta(new_markdown_cell("## Second idea\n\n$$a^2 + b^2 = c^2$$"), "subslide"),
+        _meta(new_markdown_cell("A step that appears on a key press."), "fragment"),
+        _meta(new_markdown_cell("## A new section"), "slide"),
+    ])
+    path = tmp_path / "99_deck.ipynb"
+    nbformat.write(nb, str(path))
+    (deck,) = _build(slides.build, tmp_path / "out", [path])
+    assert "SETUP-CELL-NOT-ON-A-SLIDE" not in deck.read_text()
+    offline, page = _open_deck(browser, deck)
+    assert page.evaluate("Reveal.getTotalSlides()") == 3
+    assert "five constants" in page.locator("aside.notes").inner_text()
+    assert page.locator(".fragment").count() == 1
+    with offline.context.expect_page() as popup:
+        page.keyboard.press("s")
+    speaker = popup.value
+    speaker.wait_for_function("document.body && document.body.innerText.includes('five constants')")
+    page.bring_to_front()
+    # arrow keys walk through sub-slides and fragments in reading order
+    assert json.loads(_press(page, "ArrowRight"))["v"] == 1
+    assert json.loads(_press(page, "ArrowRight")).get("f") == 0
+    assert json.loads(_press(page, "ArrowRight"))["h"] == 1
+    page.evaluate("Reveal.slide(0, 0)")
+    speaker.wait_for_function("document.body.innerText.includes('five constants')")
+    screenshot(speaker, "slides_speaker_view")
+    assert not offline.problems(), offline.problems()
+    offline.close()
+
+
+# --- JupyterLab, started the way `make lab` starts it ---------------------------------
+
+LAB_NOTEBOOK = next((p for p in NOTEBOOKS if p.name.startswith("01_")),
+                    ROOT / "notebooks" / "00_start_here.ipynb")
+LAB_SETTINGS = {
+    # never write the notebook back: the test must leave notebooks/ exactly as it was
+    "@jupyterlab/docmanager-extension/plugin.jupyterlab-settings": {"autosave": False},
+    # every cell in the page, so every output can be inspected
+    "@jupyterlab/notebook-extension/tracker.jupyterlab-settings": {"windowingMode": "none",
+                                                                    "autoStartDefaultKernel": True},
+    "@jupyterlab/apputils-extension/notification.jupyterlab-settings": {"fetchNews": "false",
+                                                                         "checkForUpdates": False},
+}
+
+
+def _free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def lab(tmp_path):
+    """`make lab` on a free port, with a known token and throwaway user settings."""
+    require_chromium()
+    if not (ROOT / ".venv" / "bin" / "jupyter").exists():
+        pytest.skip("`make lab` needs the course's .venv (run `make lab` or `make test` once)")
+    settings = tmp_path / "settings"
+    for rel, value in LAB_SETTINGS.items():
+        (settings / rel).parent.mkdir(parents=True, exist_ok=True)
+        (settings / rel).write_text(json.dumps(value))
+    port, token = _free_port(), secrets.token_hex(16)
+    env = dict(os.environ, JUPYTERLAB_SETTINGS_DIR=str(settings),
+               JUPYTERLAB_WORKSPACES_DIR=str(tmp_path / "workspaces"),
+               JUPYTER_RUNTIME_DIR=str(tmp_path / "runtime"),
+               JUPYTER_CONFIG_DIR=str(tmp_path / "config"))
+    args = (f"--no-browser --port={port} --ServerApp.port_retries=0 "
+            f"--IdentityProvider.token={token} --LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate")
+    # -o: take .venv as it is (never rebuild it from a test)
+    proc = subprocess.Popen(["make", "-s", "-o", ".venv/.installed", "lab", f"LAB_ARGS={args}"],
+                            cwd=ROOT, env=env, stdout=subprocess.DEVNULL,
+                            stderr=open(tmp_path / "lab.log", "w"), start_new_session=True)
+    base = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                urllib.request.urlopen(f"{base}/api/status?token={token}", timeout=2)
+                break
+            except OSError:
+                if proc.poll() is not None or time.monotonic() > deadline:
+                    pytest.fail("JupyterLab did not start:\n" + (tmp_path / "lab.log").read_text())
+                time.sleep(0.25)
+        # start the notebook's kernel now, so that it boots while the page loads; JupyterLab
+        # attaches to this session when it opens the notebook
+        rel = LAB_NOTEBOOK.relative_to(ROOT / "notebooks").as_posix()
+        body = json.dumps({"path": rel, "name": LAB_NOTEBOOK.name, "type": "notebook",
+                           "kernel": {"name": "python3"}}).encode()
+        urllib.request.urlopen(urllib.request.Request(
+            f"{base}/api/sessions?token={token}", data=body, method="POST",
+            headers={"Content-Type": "application/json"}), timeout=30)
+        yield base, token
+    finally:
+        os.killpg(proc.pid, signal.SIGTERM)
+        try:
+            proc.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+def _menu(page, menu, item):
+    page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(f"^{menu}$")).click()
+    page.locator(".lm-Menu-itemLabel", has_text=re.compile(f"^{item}$")).click()
+
+
+def test_jupyterlab_runs_the_notebook(browser, lab):
+    base, token = lab
+    # `make lab` opens a notebook in notebooks/, so that folder is the server's root
+    rel = LAB_NOTEBOOK.relative_to(ROOT / "notebooks").as_posix()
+    before = hashlib.sha256(LAB_NOTEBOOK.read_bytes()).hexdigest()
+    n_code = sum(1 for c in read(LAB_NOTEBOOK).cells if c.cell_type == "code" and c.source.strip())
+    offline = Offline(browser, allowed=(base + "/", "data:", "blob:", "about:"))
+    page = offline.new_page()
+    page.set_default_timeout(60_000)
+    page.goto(f"{base}/lab/tree/{rel}?token={token}")
+    page.locator(".jp-NotebookPanel .jp-Cell").first.wait_for()
+    # the kernel is up when the status bar says so
+    page.locator(".jp-StatusBar-Widget", has_text=re.compile(r"\|\s*Idle")).first.wait_for()
+    _menu(page, "Edit", "Clear Outputs of All Cells")
+    page.wait_for_function("!document.querySelector('.jp-NotebookPanel .jp-OutputArea-output')")
+    _menu(page, "Run", "Run All Cells")
+    # every code cell ran, in order, in this kernel: the prompts read [1] ... [n]
+    page.wait_for_function(
+        """n => {
+          const prompts = [...document.querySelectorAll('.jp-NotebookPanel .jp-CodeCell .jp-InputPrompt')]
+            .map(p => p.textContent);
+          if (prompts.some(t => t.includes('*'))) return false;
+          const counts = prompts.map(t => parseInt((t.match(/\\[(\\d+)\\]/) || [])[1] || '0'));
+          return Math.max(0, ...counts) === n;
+        }""", arg=n_code)
+    errors = page.locator(".jp-OutputArea-output[data-mime-type='application/vnd.jupyter.stderr']")
+    texts = [errors.nth(i).inner_text() for i in range(errors.count())]
+    figure = page.locator(".jp-NotebookPanel .jp-RenderedImage img").first
+    if figure.count():
+        figure.scroll_into_view_if_needed()
+    screenshot(page, "jupyterlab_" + LAB_NOTEBOOK.stem)
+    assert not texts, "error output in JupyterLab:\n" + "\n---\n".join(texts)
+    assert not offline.problems(), offline.problems()
+    offline.close()
+    assert hashlib.sha256(LAB_NOTEBOOK.read_bytes()).hexdigest() == before, \
+        f"{rel} was modified by the test"

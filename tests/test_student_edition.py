@@ -1,0 +1,115 @@
+"""The student edition (tools/student.py): no solutions left, and it still runs.
+
+It is built once per session into a temporary folder. Every cell tagged "solution" must
+be gone, with its output, and none of its text may remain anywhere in the edition; each
+exercise keeps its stub and its checker call; and the edition runs top to bottom under
+nbval in lax mode (no cell raises) with the checkers saying "not yet", not crashing.
+"""
+
+import os
+import subprocess
+import sys
+
+import nbformat
+import pytest
+from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
+
+from browser_support import ROOT
+from tools import student
+from tools.common import course_notebooks, read
+
+NOTEBOOKS = course_notebooks()
+
+
+@pytest.fixture(scope="session")
+def edition(tmp_path_factory):
+    out = tmp_path_factory.mktemp("edition") / "student"
+    return out, {p.name: p for p in student.build(out)}
+
+
+def _lines(text):
+    return {ln.strip() for ln in text.splitlines() if len(ln.strip()) >= 20}
+
+
+def _texts(cell):
+    yield cell.source
+    for out in cell.get("outputs", []):
+        if "text" in out:
+            yield out["text"]
+        for value in out.get("data", {}).values():
+            if isinstance(value, str):
+                yield value
+
+
+def test_strip_replaces_each_run_of_solution_cells_by_one_stub():
+    nb = new_notebook(cells=[
+        new_markdown_cell("### Exercise 9.1"),
+        new_code_cell("answer = ..."),
+        new_code_cell("check(answer)"),
+        new_markdown_cell("**Solution.** it is 42", metadata={"tags": ["solution"]}),
+        new_code_cell("answer = 42\ncheck(answer)", metadata={"tags": ["solution"]},
+                      outputs=[nbformat.v4.new_output("stream", text="Correct: 42\n")]),
+        new_markdown_cell("## Next section"),
+    ])
+    out = student.strip(nb)
+    sources = [c.source for c in out.cells]
+    assert sources[:3] == ["### Exercise 9.1", "answer = ...", "check(answer)"]
+    assert sources[3] == student.STUB_TEXT and out.cells[3].metadata["tags"] == [student.STUB_TAG]
+    assert sources[4:] == ["## Next section"]
+    assert "42" not in nbformat.writes(out)
+    assert len(nb.cells) == 6, "the original notebook is left as it was"
+
+
+def test_the_edition_has_every_notebook_and_what_it_needs(edition):
+    out, notebooks = edition
+    assert sorted(notebooks) == [p.name for p in NOTEBOOKS]
+    for name in ["so3lib/exercises/__init__.py", "environment.txt", "pyproject.toml",
+                 "README.md", "binder/requirements.txt"]:
+        assert (out / name).is_file(), name
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_no_solution_text_remains(edition, path):
+    out, notebooks = edition
+    full = read(path)
+    solutions = [c for c in full.cells if student.is_solution(c)]
+    kept = read(notebooks[path.name])
+    assert not any(student.is_solution(c) for c in kept.cells)
+    # a solution line that also appears outside the solutions (an import, a checker call)
+    # gives nothing away; every other line of a solution must be gone
+    elsewhere = {ln for c in full.cells if not student.is_solution(c) for t in _texts(c)
+                 for ln in _lines(t)}
+    secret = {ln for c in solutions for t in _texts(c) for ln in _lines(t)} - elsewhere
+    left = {ln for c in kept.cells for t in _texts(c) for ln in _lines(t)} & secret
+    assert not left, f"solution text left in the student edition: {sorted(left)[:5]}"
+    stubs = [c for c in kept.cells if student.STUB_TAG in c.metadata.get("tags", [])]
+    runs = sum(1 for i, c in enumerate(full.cells)
+               if student.is_solution(c) and (i == 0 or not student.is_solution(full.cells[i - 1])))
+    assert len(stubs) == runs
+    # everything that is not a solution is kept, in order, outputs included
+    assert [c for c in full.cells if not student.is_solution(c)] == \
+           [c for c in kept.cells if student.STUB_TAG not in c.metadata.get("tags", [])]
+
+
+def test_the_build_never_writes_into_notebooks(tmp_path):
+    before = {p: p.stat().st_mtime_ns for p in (ROOT / "notebooks").iterdir()}
+    for bad in [ROOT / "notebooks", ROOT / "notebooks" / "student", ROOT, ROOT / "so3lib"]:
+        with pytest.raises(SystemExit):
+            student.build(bad)
+    assert {p: p.stat().st_mtime_ns for p in (ROOT / "notebooks").iterdir()} == before
+
+
+def test_the_edition_runs_under_nbval_lax(edition):
+    """Each notebook that lost solution cells runs top to bottom with no error; the others
+    are the course's notebooks unchanged, which strict nbval runs already."""
+    out, notebooks = edition
+    changed = [notebooks[p.name] for p in NOTEBOOKS if any(student.is_solution(c) for c in read(p).cells)]
+    if not changed:
+        pytest.skip("no notebook has solution cells yet")
+    env = dict(os.environ, PYTHONHASHSEED="0")
+    env.pop("PYTEST_XDIST_WORKER", None)
+    run = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:xdist",
+         "--rootdir", str(out), "--nbval-lax", "--nbval-current-env", *map(str, changed)],
+        cwd=out, env=env, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stdout[-4000:] + run.stderr[-2000:]

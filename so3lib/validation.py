@@ -223,7 +223,9 @@ def _first_failure(R, tol):
     dim = R.shape[-1]
     rows = R.reshape(-1, dim * dim)
     if len(rows) <= _FEW:
-        for k, (orth, det) in enumerate(zip(*_few_defects(rows, dim))):
+        for k, r in enumerate(rows.tolist()):
+            gram, det = _defects(r, dim)
+            orth = max(map(abs, gram))
             if orth > tol or abs(det - 1.0) > tol:
                 return k, orth, det
         return None

@@ -1,43 +1,195 @@
-"""`make bench`: so3lib's batched exp and log side by side with scipy's Rotation.
+"""`make bench`: so3lib's exp and log side by side with scipy's Rotation.
 
-Prints nanoseconds per rotation for each batch size and the ratio so3lib / scipy
-(below 1 means so3lib is faster). Timings are the best of several repeats, so that other
-work on the machine inflates them as little as possible. Not a test: speed targets live
-here, never in the test suite.
+Prints, for N = 1 to 10^6 rotations, the time per rotation of each library and the
+ratio so3lib / scipy (below 1 means so3lib is faster); then the fixed cost of a call and
+the cost of one more rotation; then the targets of the performance issue, each with its
+measured value; and writes a plot to build/benchmark.png (the README shows a copy,
+notebooks/images/benchmark.png).
+
+Timings are the best of several repeats, taken in turn for so3lib and scipy so that
+other work on the machine slows both alike. Memory is the peak that tracemalloc sees
+during one call (NumPy reports its allocations to it), result included, divided by the
+size of the result. Not a test: speed targets live here, never in the test suite (the
+memory bound, which does not depend on the machine, is tested in tests/test_memory.py).
+
+    python tests/benchmark.py [--quick] [--plot PATH]
 """
 
+import argparse
+import os
+import platform
 import sys
 import timeit
+import tracemalloc
+from pathlib import Path
 
 import numpy as np
+import scipy
 from scipy.spatial.transform import Rotation
 
 import so3lib
 
-SIZES = (1, 100, 10_000, 100_000)
+SIZES = (1, 3, 10, 30, 100, 300, 1_000, 3_000, 10_000, 30_000, 100_000, 300_000, 1_000_000)
+TARGET_N = 100_000
+ROOT = Path(__file__).resolve().parent.parent
+PLOT = ROOT / "build" / "benchmark.png"
 
 
-def best_ns_per_item(func, n, budget=0.4, repeat=5):
-    """Best time of ``func()`` over ``repeat`` runs, in ns per rotation."""
-    timer = timeit.Timer(func)
-    number, _ = timer.autorange()
-    number = max(1, int(number * budget / 0.2))
-    return min(timer.repeat(repeat=repeat, number=number)) / number / n * 1e9
+def machine():
+    """One line naming the processor, the cores and the versions, for the README."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            info = dict(line.split(":", 1) for line in f.read().split("\n\n")[0].splitlines()
+                        if ":" in line)
+        info = {k.strip(): v.strip() for k, v in info.items()}
+        cpu = f"{info['model name']} (family {info['cpu family']}, model {info['model']})"
+    except (OSError, KeyError):
+        pass
+    blas = os.environ.get("OPENBLAS_CORETYPE")
+    blas = f"; OPENBLAS_CORETYPE={blas} (no BLAS call is timed)" if blas else ""
+    return (f"{cpu}, {os.cpu_count()} cores; Python {platform.python_version()}, "
+            f"numpy {np.__version__}, scipy {scipy.__version__}{blas}")
 
 
-def main():
+def best_times(funcs, repeat, budget):
+    """Best time in seconds of one call of each function, repeats taken in turn.
+
+    Each repeat runs a function ``number`` times, about ``budget`` seconds in all.
+    """
+    timers = [timeit.Timer(f) for f in funcs]
+    numbers = []
+    for t in timers:
+        one = min(t.repeat(repeat=3, number=1))          # also warms up
+        numbers.append(max(1, int(budget / max(one, 1e-7))))
+    best = [float("inf")] * len(funcs)
+    for _ in range(repeat):
+        for k, (t, number) in enumerate(zip(timers, numbers)):
+            best[k] = min(best[k], t.timeit(number) / number)
+    return best
+
+
+def peak_memory_ratio(func):
+    """Peak memory allocated during ``func()``, its result included, over the result's size."""
+    func()                                               # warm caches outside the count
+    tracemalloc.start()
+    try:
+        tracemalloc.reset_peak()
+        base = tracemalloc.get_traced_memory()[0]
+        out = func()
+        peak = tracemalloc.get_traced_memory()[1] - base
+    finally:
+        tracemalloc.stop()
+    return peak / out.nbytes
+
+
+def inputs(n, rng):
+    phi = rng.standard_normal((n, 3)) * 1.5              # angles spread over 0 .. 2 pi
+    return phi, so3lib.exp(phi)
+
+
+def run(sizes, repeat, budget):
     rng = np.random.default_rng(0)
-    print(f"numpy {np.__version__}; times in ns per rotation (best of 5)")
-    print(f"{'N':>8} | {'exp':>9} {'scipy':>9} {'ratio':>6} | {'log':>9} {'scipy':>9} {'ratio':>6}")
-    for n in SIZES:
-        phi = rng.standard_normal((n, 3)) * 1.5
-        R = so3lib.exp(phi)
-        t_exp = best_ns_per_item(lambda: so3lib.exp(phi), n)
-        t_sexp = best_ns_per_item(lambda: Rotation.from_rotvec(phi).as_matrix(), n)
-        t_log = best_ns_per_item(lambda: so3lib.log(R), n)
-        t_slog = best_ns_per_item(lambda: Rotation.from_matrix(R).as_rotvec(), n)
-        print(f"{n:>8} | {t_exp:>9.1f} {t_sexp:>9.1f} {t_exp / t_sexp:>6.2f} | "
-              f"{t_log:>9.1f} {t_slog:>9.1f} {t_log / t_slog:>6.2f}")
+    rows = {}
+    for n in sizes:
+        phi, R = inputs(n, rng)
+        t = best_times([lambda: so3lib.exp(phi),
+                        lambda: Rotation.from_rotvec(phi).as_matrix(),
+                        lambda: so3lib.log(R),
+                        lambda: Rotation.from_matrix(R).as_rotvec()],
+                       repeat if n < 1_000_000 else 3, budget)
+        rows[n] = t
+        ns = [x / n * 1e9 for x in t]
+        print(f"{n:>9} | {ns[0]:>9.1f} {ns[1]:>9.1f} {t[0] / t[1]:>6.2f} | "
+              f"{ns[2]:>9.1f} {ns[3]:>9.1f} {t[2] / t[3]:>6.2f}", flush=True)
+    return rows
+
+
+def fit_overhead(rows, k, n_min=10):
+    """``(a, b)`` with time per call ~ ``a + b N`` for N >= n_min, fitted to relative error."""
+    n = np.array([m for m in sorted(rows) if m >= n_min], dtype=float)
+    t = np.array([rows[m][k] for m in sorted(rows) if m >= n_min])
+    (a, b), *_ = np.linalg.lstsq(np.stack([1 / t, n / t], axis=1), np.ones_like(t), rcond=None)
+    return a, b
+
+
+def plot(rows, path, title):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    sizes = np.array(sorted(rows))
+    t = np.array([rows[n] for n in sizes])
+    labels = ["so3lib.exp", "scipy from_rotvec().as_matrix()",
+              "so3lib.log (validated)", "scipy from_matrix().as_rotvec()"]
+    styles = [dict(color="C0"), dict(color="C0", ls="--"),
+              dict(color="C1"), dict(color="C1", ls="--")]
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for k in range(4):
+        ax1.loglog(sizes, t[:, k] * 1e6, marker="o", ms=3, label=labels[k], **styles[k])
+        ax2.loglog(sizes, t[:, k] / sizes * 1e9, marker="o", ms=3, label=labels[k],
+                   **styles[k])
+    ax1.set(xlabel="rotations per call, N", ylabel="time per call (µs)",
+            title="Time per call: flat = fixed overhead")
+    ax2.set(xlabel="rotations per call, N", ylabel="time per rotation (ns)",
+            title="Time per rotation: the floor is the cost of one more")
+    for ax in (ax1, ax2):
+        ax.grid(True, which="major", alpha=0.4)
+    ax2.legend(fontsize=8)
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def report_targets(rows):
+    """The issue's targets, each measured (timings from the table above)."""
+    rng = np.random.default_rng(1)
+    phi, R = inputs(TARGET_N, rng)
+    t = rows[TARGET_N]
+    checks = [
+        ("exp time / scipy's, N = 1e5", t[0] / t[1], 1.0, ""),
+        ("log time (validated) / scipy's, N = 1e5", t[2] / t[3], 0.25, ""),
+        ("exp of one rotation (N = 1)", rows[1][0] * 1e6, 10.0, " us"),
+        ("log of one rotation (N = 1)", rows[1][2] * 1e6, 10.0, " us"),
+        ("exp peak memory / result size, N = 1e5",
+         peak_memory_ratio(lambda: so3lib.exp(phi)), 2.0, ""),
+        ("log peak memory / result size, N = 1e5",
+         peak_memory_ratio(lambda: so3lib.log(R)), 2.0, ""),
+    ]
+    print("\nTargets (the performance issue)")
+    for name, value, bound, unit in checks:
+        verdict = "met" if value <= bound else "NOT MET"
+        measured, target = f"{value:.2f}{unit}", f"<= {bound:g}{unit}"
+        print(f"  {name:<42} {measured:>9}   target {target:<9} {verdict}")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer repeats (rougher)")
+    parser.add_argument("--plot", type=Path, default=PLOT, help=f"default {PLOT}")
+    args = parser.parse_args(argv)
+    repeat, budget = (3, 0.05) if args.quick else (7, 0.1)
+
+    title = machine()
+    print(f"so3lib {so3lib.__version__} against scipy.spatial.transform.Rotation")
+    print(f"machine: {title}")
+    print(f"best of {repeat} repeats; ns per rotation; ratio = so3lib / scipy "
+          "(below 1: so3lib faster)\n")
+    print(f"{'N':>9} | {'exp':>9} {'scipy':>9} {'ratio':>6} | "
+          f"{'log':>9} {'scipy':>9} {'ratio':>6}")
+    rows = run(SIZES, repeat, budget)
+
+    print("\nCost of a call, fitted as  a + b N  over N >= 10 (relative least squares)")
+    for k, name in enumerate(["so3lib.exp", "scipy exp", "so3lib.log", "scipy log"]):
+        a, b = fit_overhead(rows, k)
+        print(f"  {name:<11} a = {a * 1e6:6.1f} us fixed  + b = {b * 1e9:6.1f} ns per rotation;"
+              f"  one rotation alone: {rows[1][k] * 1e6:5.1f} us")
+
+    report_targets(rows)
+    plot(rows, args.plot, f"so3lib vs scipy — {title}")
+    print(f"\nplot written to {args.plot}")
     return 0
 
 

@@ -55,8 +55,25 @@ def require_chromium():
     pytest.skip(why)
 
 
-def launch(playwright):
-    return playwright.chromium.launch(executable_path=require_chromium(), args=CHROMIUM_ARGS)
+_shared = {}
+
+
+def shared_browser():
+    """One Chromium per test process, shared by every test file that needs one (Playwright's
+    sync API allows only one running instance per thread). Closed by close_shared_browser."""
+    exe = require_chromium()
+    if "browser" not in _shared:
+        from playwright.sync_api import sync_playwright
+        _shared["playwright"] = sync_playwright().start()
+        _shared["browser"] = _shared["playwright"].chromium.launch(executable_path=exe,
+                                                                   args=CHROMIUM_ARGS)
+    return _shared["browser"]
+
+
+def close_shared_browser():
+    if "browser" in _shared:
+        _shared.pop("browser").close()
+        _shared.pop("playwright").stop()
 
 
 class Offline:

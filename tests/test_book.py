@@ -14,8 +14,8 @@ from urllib.parse import unquote, urlsplit
 
 import pytest
 
-from browser_support import (MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, launch,
-                             require_chromium, screenshot)
+from browser_support import (MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, close_shared_browser,
+                             screenshot, shared_browser)
 from tools import book
 from tools.common import course_notebooks
 
@@ -68,27 +68,28 @@ def test_every_link_in_the_book_resolves(pages):
     assert not broken, "\n".join(broken)
 
 
+@pytest.fixture(scope="session")
+def browser():
+    yield shared_browser()
+    close_shared_browser()
+
+
 @pytest.mark.browser
-def test_book_reads_offline(pages):
-    require_chromium()
-    from playwright.sync_api import sync_playwright
-    with sync_playwright() as p:
-        browser = launch(p)
-        offline = Offline(browser)
-        page = offline.new_page()
-        page.set_default_timeout(20_000)
-        page.goto(pages[0].as_uri())
-        page.wait_for_function(MATHJAX_IDLE)
-        assert page.locator(".MathJax_CHTML").count() > 0, "the index's formula was not typeset"
-        titles = page.locator(".jp-MarkdownOutput ol > li > strong > a")
-        assert titles.count() == len(pages) - 1, "the index lists every notebook in order"
-        screenshot(page, "book_index")
-        page.locator(".course-nav.top a[rel=next]").click()
-        page.wait_for_url("**/" + pages[1].name)
-        page.wait_for_function(MATHJAX_IDLE)
-        assert page.locator(".MathJax_CHTML").count() > 0
-        assert page.locator(MATHJAX_ERRORS).count() == 0
-        screenshot(page, "book_" + Path(pages[1]).stem)
-        problems = offline.problems()
-        browser.close()
-    assert not problems, problems
+def test_book_reads_offline(browser, pages):
+    offline = Offline(browser)
+    page = offline.new_page()
+    page.set_default_timeout(20_000)
+    page.goto(pages[0].as_uri())
+    page.wait_for_function(MATHJAX_IDLE)
+    assert page.locator(".MathJax_CHTML").count() > 0, "the index's formula was not typeset"
+    titles = page.locator(".course-contents > li > strong > a")
+    assert titles.count() == len(pages) - 1, "the index lists every notebook in order"
+    screenshot(page, "book_index")
+    page.locator(".course-nav.top a[rel=next]").click()
+    page.wait_for_url("**/" + pages[1].name)
+    page.wait_for_function(MATHJAX_IDLE)
+    assert page.locator(".MathJax_CHTML").count() > 0
+    assert page.locator(MATHJAX_ERRORS).count() == 0
+    screenshot(page, "book_" + Path(pages[1]).stem)
+    assert not offline.problems(), offline.problems()
+    offline.close()

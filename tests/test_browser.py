@@ -22,8 +22,8 @@ import nbformat
 import pytest
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 
-from browser_support import (MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, launch,
-                             require_chromium, screenshot)
+from browser_support import (MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, close_shared_browser,
+                             require_chromium, screenshot, shared_browser)
 from tools import slides
 from tools.common import course_notebooks, read
 
@@ -35,12 +35,8 @@ SLIDE_TYPES = {"slide", "subslide", "fragment", "skip", "notes", "-"}
 
 @pytest.fixture(scope="session")
 def browser():
-    require_chromium()
-    from playwright.sync_api import sync_playwright
-    with sync_playwright() as p:
-        b = launch(p)
-        yield b
-        b.close()
+    yield shared_browser()
+    close_shared_browser()
 
 
 def _build(what, *args):
@@ -111,19 +107,24 @@ def _meta(cell, slide_type):
 
 
 def test_slide_types_and_speaker_notes(browser, tmp_path):
-    """skip, notes, fragment and subslide do what the lecturer expects; S opens the notes."""
+    """skip, notes, fragment, subslide and the hide-input tag do what the lecturer expects;
+    S opens the speaker view with the notes."""
     nb = new_notebook(cells=[
         _meta(new_markdown_cell("# A deck\n\nEuler: $e^{i\\pi} + 1 = 0$"), "slide"),
         _meta(new_markdown_cell("Say that it links five constants."), "notes"),
         _meta(new_code_cell("hidden = 'SETUP-CELL-NOT-ON-A-SLIDE'"), "skip"),
         _meta(new_markdown_cell("## Second idea\n\n$$a^2 + b^2 = c^2$$"), "subslide"),
         _meta(new_markdown_cell("A step that appears on a key press."), "fragment"),
+        _meta(new_code_cell("draw_the_figure()", metadata={"tags": ["hide-input"]},
+                            outputs=[nbformat.v4.new_output("stream", text="FIGURE-ONLY\n")]), "-"),
         _meta(new_markdown_cell("## A new section"), "slide"),
     ])
     path = tmp_path / "99_deck.ipynb"
     nbformat.write(nb, str(path))
     (deck,) = _build(slides.build, tmp_path / "out", [path])
-    assert "SETUP-CELL-NOT-ON-A-SLIDE" not in deck.read_text()
+    html = deck.read_text()
+    assert "SETUP-CELL-NOT-ON-A-SLIDE" not in html
+    assert "FIGURE-ONLY" in html and "draw_the_figure" not in html, "hide-input shows the output only"
     offline, page = _open_deck(browser, deck)
     assert page.evaluate("Reveal.getTotalSlides()") == 3
     assert "five constants" in page.locator("aside.notes").inner_text()

@@ -3,7 +3,8 @@
 Each cell's slideshow metadata decides where it goes: "slide" starts a new slide,
 "subslide" a new slide below it (down arrow), "fragment" appears on the next key press,
 "skip" leaves the cell out, "notes" goes to the speaker view (press S), "-" continues
-the current slide. reveal.js, MathJax, jQuery and require.js are unpacked into
+the current slide. A code cell tagged "hide-input" shows only its output (a figure
+without the code that draws it). reveal.js, MathJax, jQuery and require.js are unpacked into
 build/slides/vendor/ from the npm registry (tools/vendor.py), so the decks load nothing
 from the network: copy the whole build/slides/ folder to the lecture-hall machine and
 open NN_name.slides.html in a browser.
@@ -39,6 +40,9 @@ def exporter():
     c.SlidesExporter.reveal_height = "800"
     c.SlidesExporter.exclude_input_prompt = True
     c.SlidesExporter.exclude_output_prompt = True
+    # A cell tagged "hide-input" shows only its output on the slide (a figure without the
+    # plotting code); the notebook and the book still show the code.
+    c.TagRemovePreprocessor.remove_input_tags = {"hide-input"}
     c.SlidesExporter.extra_template_basedirs = [str(TEMPLATES)]
     c.SlidesExporter.extra_template_paths = [str(TEMPLATES)]  # for course_mathjax.html.j2
     c.SlidesExporter.template_name = "course_slides"

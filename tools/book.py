@@ -154,7 +154,7 @@ def build(out=BUILD / "book", notebooks=None):
     rendered = []
     for i, (nb, page) in enumerate(zip(nbs, pages)):
         course = {"book_title": BOOK_TITLE, "pages": nav, "current": page["href"],
-                  "prev": nav[i - 1] if i > 0 else {"href": "index.html", "title": "Contents"},
+                  "prev": nav[i - 1] if i > 0 else None,
                   "next": nav[i + 1] if i + 1 < len(nav) else None}
         body = _render(exp, nb, page["stem"], course)
         page["sections"] = sections(body)

@@ -6,8 +6,9 @@ the cost of one more rotation; then the targets of the performance issue, each w
 measured value; and writes a plot to build/benchmark.png (the README shows a copy,
 notebooks/images/benchmark.png).
 
-Timings are the best of several repeats, taken in turn for so3lib and scipy so that
-other work on the machine slows both alike. Memory is the peak that tracemalloc sees
+Timings are the best of several repeats, taken in rounds that go through every size and
+both libraries in turn, so that other work on the machine, or a slow spell of it, slows
+both alike and cannot spoil every repeat of one measurement. Memory is the peak that tracemalloc sees
 during one call (NumPy reports its allocations to it), result included, divided by the
 size of the result. Not a test: speed targets live here, never in the test suite (the
 memory bound, which does not depend on the machine, is tested in tests/test_memory.py).
@@ -19,6 +20,7 @@ import argparse
 import os
 import platform
 import sys
+import time
 import timeit
 import tracemalloc
 from pathlib import Path
@@ -52,20 +54,40 @@ def machine():
             f"numpy {np.__version__}, scipy {scipy.__version__}{blas}")
 
 
-def best_times(funcs, repeat, budget):
-    """Best time in seconds of one call of each function, repeats taken in turn.
+def calls(phi, R):
+    """The four timed calls on one batch: so3lib's and scipy's exp, then their log."""
+    return [lambda: so3lib.exp(phi),
+            lambda: Rotation.from_rotvec(phi).as_matrix(),
+            lambda: so3lib.log(R),
+            lambda: Rotation.from_matrix(R).as_rotvec()]
 
-    Each repeat runs a function ``number`` times, about ``budget`` seconds in all.
+
+def best_times(sizes, rounds, budget):
+    """Best time in seconds of one call, for each size and each of the four calls.
+
+    Timed in rounds: each round times every call at every size once (a short call several
+    times), so the repeats of one measurement are spread over the whole run and a burst
+    of other work, or a slow spell of the machine, cannot spoil all of them.
     """
-    timers = [timeit.Timer(f) for f in funcs]
-    numbers = []
-    for t in timers:
-        one = min(t.repeat(repeat=3, number=1))          # also warms up
-        numbers.append(max(1, int(budget / max(one, 1e-7))))
-    best = [float("inf")] * len(funcs)
-    for _ in range(repeat):
-        for k, (t, number) in enumerate(zip(timers, numbers)):
-            best[k] = min(best[k], t.timeit(number) / number)
+    rng = np.random.default_rng(0)
+    cases = []
+    for n in sizes:
+        phi, R = inputs(n, rng)
+        for k, func in enumerate(calls(phi, R)):
+            timer = timeit.Timer(func)
+            one = min(timer.repeat(repeat=3, number=1))      # also warms up
+            inner, seconds = (7, budget / 50) if n <= 1_000 else (1, budget)
+            cases.append((n, k, timer, max(1, int(seconds / max(one, 1e-7))), inner))
+    best = {n: [float("inf")] * 4 for n in sizes}
+    progress = sys.stderr.isatty()
+    for r in range(rounds):
+        if progress:
+            print(f"\rround {r + 1} of {rounds}", end="", file=sys.stderr, flush=True)
+        for n, k, timer, number, inner in cases:
+            for _ in range(inner):
+                best[n][k] = min(best[n][k], timer.timeit(number) / number)
+    if progress:
+        print("\r" + " " * 20 + "\r", end="", file=sys.stderr)
     return best
 
 
@@ -88,21 +110,13 @@ def inputs(n, rng):
     return phi, so3lib.exp(phi)
 
 
-def run(sizes, repeat, budget):
-    rng = np.random.default_rng(0)
-    rows = {}
-    for n in sizes:
-        phi, R = inputs(n, rng)
-        t = best_times([lambda: so3lib.exp(phi),
-                        lambda: Rotation.from_rotvec(phi).as_matrix(),
-                        lambda: so3lib.log(R),
-                        lambda: Rotation.from_matrix(R).as_rotvec()],
-                       repeat if n < 1_000_000 else 3, budget)
-        rows[n] = t
+def print_table(rows):
+    print(f"{'N':>9} | {'exp':>9} {'scipy':>9} {'ratio':>6} | "
+          f"{'log':>9} {'scipy':>9} {'ratio':>6}")
+    for n, t in rows.items():
         ns = [x / n * 1e9 for x in t]
         print(f"{n:>9} | {ns[0]:>9.1f} {ns[1]:>9.1f} {t[0] / t[1]:>6.2f} | "
-              f"{ns[2]:>9.1f} {ns[3]:>9.1f} {t[2] / t[3]:>6.2f}", flush=True)
-    return rows
+              f"{ns[2]:>9.1f} {ns[3]:>9.1f} {t[2] / t[3]:>6.2f}")
 
 
 def fit_overhead(rows, k, n_min=10):
@@ -167,19 +181,18 @@ def report_targets(rows):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="fewer repeats (rougher)")
+    parser.add_argument("--quick", action="store_true", help="3 rounds instead of 7 (rougher)")
     parser.add_argument("--plot", type=Path, default=PLOT, help=f"default {PLOT}")
     args = parser.parse_args(argv)
-    repeat, budget = (3, 0.05) if args.quick else (7, 0.1)
+    rounds, budget = (3, 0.05) if args.quick else (7, 0.1)
 
     title = machine()
     print(f"so3lib {so3lib.__version__} against scipy.spatial.transform.Rotation")
     print(f"machine: {title}")
-    print(f"best of {repeat} repeats; ns per rotation; ratio = so3lib / scipy "
-          "(below 1: so3lib faster)\n")
-    print(f"{'N':>9} | {'exp':>9} {'scipy':>9} {'ratio':>6} | "
-          f"{'log':>9} {'scipy':>9} {'ratio':>6}")
-    rows = run(SIZES, repeat, budget)
+    rows = best_times(SIZES, rounds, budget)
+    print(f"best of {rounds} rounds (of 7 repeats each up to N = 1000); ns per rotation; "
+          "ratio = so3lib / scipy (below 1: so3lib faster)\n")
+    print_table(rows)
 
     print("\nCost of a call, fitted as  a + b N  over N >= 10 (relative least squares)")
     for k, name in enumerate(["so3lib.exp", "scipy exp", "so3lib.log", "scipy log"]):

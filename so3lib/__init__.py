@@ -12,6 +12,10 @@ plane and complex numbers), :mod:`so3lib.series` (the power series, for teaching
 :mod:`so3lib.validation` (input checks and the rotation tolerance),
 :mod:`so3lib.plot` (figure helpers; imports matplotlib) and :mod:`so3lib.exercises`
 (checkers for the notebooks' exercises).
+
+Docstrings and comments cite "spec Sn": the numbered statements of the course's
+specification, which the notebooks teach in order (S1-S5 in notebook 01, S6-S11 in 02,
+S24-S28 in 03, S12-S23 in 04; S29 is the 50-digit reference in ``tests/reference.py``).
 """
 
 from . import so2

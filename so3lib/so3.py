@@ -17,8 +17,10 @@ here               meaning                          elsewhere
                                                     :math:`\ln_\tau R`
 =================  ===============================  ==================================
 
-The formulas are those of the course notebooks 01, 02 and 04 and of
-``design/spec.md`` (sections A to C); the numerical algorithms are spec S23.
+The formulas are derived in notebooks 01, 02 and 04. Comments cite "spec Sn", the
+numbered statements of the course's specification; the notebooks teach them in order
+(S1-S5 in notebook 01, S6-S11 in 02, S12-S23 in 04, S24-S28 in 03), and the numerical
+algorithms here are S23's, with the error analysis of S10, S11, S14 and S19.
 
 References: the lecture notes and Gallier's textbook excerpt the course follows;
 J. Sola, J. Deray, D. Atchuthan, "A micro Lie theory for state estimation in robotics"
@@ -31,7 +33,7 @@ import math
 import numpy as np
 
 from .validation import (ROTATION_TOL, as_matrices, as_times, as_tolerance, as_vectors,
-                         check_rotation, check_skew, rotation_defects)
+                         broadcast_batch, check_rotation, check_skew, rotation_defects)
 
 __all__ = ["hat", "vee", "exp", "log", "angle", "is_rotation", "random_rotation"]
 
@@ -161,7 +163,7 @@ def exp(omega, tau=1.0):
     if tau.ndim == 0:                           # phi = omega * scale, block by block
         batch, phi, scale = omega.shape[:-1], omega, float(tau)
     else:
-        batch = np.broadcast_shapes(omega.shape[:-1], tau.shape)
+        batch = broadcast_batch(omega.shape[:-1], tau, "exp", "omega")
         with np.errstate(over="ignore"):        # overflow is reported below
             phi, scale = omega * tau[..., None], 1.0
     rows = phi.reshape(-1, 3)
@@ -414,8 +416,8 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
       (spec S19, notebook 04, "Near pi").
 
     At exactly ``theta = pi`` both ``+pi n`` and ``-pi n`` are logarithms. When ``R`` is
-    exactly symmetric (``v = 0``) this function returns the one whose largest component
-    is positive (the first of equal largest components); when ``R`` carries rounding
+    exactly symmetric (``v = 0``) this function returns the one whose component of largest
+    absolute value is positive (the first such component on a tie); when ``R`` carries rounding
     noise the noise picks the sign, and either answer is correct to that noise.
 
     A batch is computed in blocks of a few thousand rotations and a few rotations in
@@ -423,6 +425,7 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
     """
     R = _validated_rotations(R, check, tol, "log")
     tau = as_times(tau, "log", nonzero=True)
+    broadcast_batch(R.shape[:-2], tau, "log", "R")
     rows = R.reshape(-1, 9)                     # each matrix as a row of nine entries
     scale = float(tau) if tau.ndim == 0 else 1.0    # divide by a scalar tau block by block
     if len(rows) <= _FEW:

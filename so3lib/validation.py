@@ -35,6 +35,7 @@ __all__ = [
     "check_rotation",
     "check_skew",
     "as_tolerance",
+    "broadcast_batch",
 ]
 
 #: Default tolerance of the rotation test (see the module docstring).
@@ -295,3 +296,16 @@ def as_tolerance(tol, func):
     if not math.isfinite(value) or value < 0:
         raise ValueError(f"{func} expects tol as a finite nonnegative number; got {tol!r}")
     return value
+
+
+def broadcast_batch(batch, tau, func, name):
+    """The batch shape of ``name`` (shape ``batch``) broadcast against ``tau``'s shape.
+
+    Raises ValueError naming both shapes when they do not broadcast.
+    """
+    try:
+        return np.broadcast_shapes(batch, tau.shape)
+    except ValueError:
+        raise ValueError(f"{func} expects tau as a scalar or an array that broadcasts against "
+                         f"the batch shape {batch} of {name}; got tau of shape {tau.shape}") from None
+

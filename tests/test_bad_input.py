@@ -78,9 +78,11 @@ def test_bad_input_raises_value_error_with_message(call, message):
         call()
 
 
-def test_exp_refuses_times_that_do_not_broadcast():
-    with pytest.raises(ValueError):
+def test_times_that_do_not_broadcast_are_refused_with_both_shapes():
+    with pytest.raises(ValueError, match=r"exp expects tau .* batch shape \(4,\) of omega; got tau of shape \(3,\)"):
         so3lib.exp(np.ones((4, 3)), np.ones(3))
+    with pytest.raises(ValueError, match=r"log expects tau .* batch shape \(2,\) of R; got tau of shape \(5,\)"):
+        so3lib.log(np.stack([np.eye(3)] * 2), np.ones(5))
 
 
 def test_rounding_noise_is_accepted():

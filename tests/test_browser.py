@@ -15,6 +15,7 @@ import secrets
 import signal
 import socket
 import subprocess
+import threading
 import time
 import urllib.request
 
@@ -22,8 +23,8 @@ import nbformat
 import pytest
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 
-from browser_support import (MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, close_shared_browser,
-                             require_chromium, screenshot, shared_browser)
+from browser_support import (MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, chromium_executable,
+                             close_shared_browser, require_chromium, screenshot, shared_browser)
 from tools import slides
 from tools.common import course_notebooks, read
 
@@ -55,13 +56,28 @@ def decks():
 
 
 def _open_deck(browser, path):
+    """Start loading a deck in its own offline context; returns (offline, page) at once."""
     offline = Offline(browser)
     page = offline.new_page()
-    page.set_default_timeout(20_000)
-    page.goto(path.as_uri())
+    page.set_default_timeout(30_000)
+    page.goto(path.as_uri(), wait_until="commit")
+    return offline, page
+
+
+def _ready(page):
     page.wait_for_function("window.Reveal && Reveal.isReady()")
     page.wait_for_function(MATHJAX_IDLE)
-    return offline, page
+    page.bring_to_front()
+
+
+@pytest.fixture(scope="session")
+def open_decks(browser, decks):
+    """Every deck, loading side by side: a deck's load is mostly waiting, not computing,
+    so the decks take little longer together than one alone."""
+    opened = {name: _open_deck(browser, path) for name, path in decks.items()}
+    yield opened
+    for offline, _ in opened.values():
+        offline.close()
 
 
 def _indices(page):
@@ -84,8 +100,9 @@ def test_every_cell_has_a_slide_type():
 
 
 @pytest.mark.parametrize("name", [p.stem for p in NOTEBOOKS])
-def test_deck_presents_offline(browser, decks, name):
-    offline, page = _open_deck(browser, decks[name])
+def test_deck_presents_offline(open_decks, name):
+    offline, page = open_decks[name]
+    _ready(page)
     total = page.evaluate("Reveal.getTotalSlides()")
     assert total >= 2, f"{name}: only {total} slide"
     jax = page.evaluate("MathJax.Hub.getAllJax().length")
@@ -98,7 +115,6 @@ def test_deck_presents_offline(browser, decks, name):
     screenshot(page, f"slides_{name}")
     assert _press(page, "ArrowLeft") == first
     assert not offline.problems(), offline.problems()
-    offline.close()
 
 
 def _meta(cell, slide_type):
@@ -126,6 +142,7 @@ def test_slide_types_and_speaker_notes(browser, tmp_path):
     assert "SETUP-CELL-NOT-ON-A-SLIDE" not in html
     assert "FIGURE-ONLY" in html and "draw_the_figure" not in html, "hide-input shows the output only"
     offline, page = _open_deck(browser, deck)
+    _ready(page)
     assert page.evaluate("Reveal.getTotalSlides()") == 3
     assert "five constants" in page.locator("aside.notes").inner_text()
     assert page.locator(".fragment").count() == 1
@@ -166,54 +183,92 @@ def _free_port():
         return s.getsockname()[1]
 
 
-@pytest.fixture
-def lab(tmp_path):
-    """`make lab` on a free port, with a known token and throwaway user settings."""
-    require_chromium()
-    if not (ROOT / ".venv" / "bin" / "jupyter").exists():
-        pytest.skip("`make lab` needs the course's .venv (run `make lab` or `make test` once)")
-    settings = tmp_path / "settings"
-    for rel, value in LAB_SETTINGS.items():
-        (settings / rel).parent.mkdir(parents=True, exist_ok=True)
-        (settings / rel).write_text(json.dumps(value))
-    port, token = _free_port(), secrets.token_hex(16)
-    env = dict(os.environ, JUPYTERLAB_SETTINGS_DIR=str(settings),
-               JUPYTERLAB_WORKSPACES_DIR=str(tmp_path / "workspaces"),
-               JUPYTER_RUNTIME_DIR=str(tmp_path / "runtime"),
-               JUPYTER_CONFIG_DIR=str(tmp_path / "config"))
-    args = (f"--no-browser --port={port} --ServerApp.port_retries=0 "
-            f"--IdentityProvider.token={token} --LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate")
-    # -o: take .venv as it is (never rebuild it from a test)
-    proc = subprocess.Popen(["make", "-s", "-o", ".venv/.installed", "lab", f"LAB_ARGS={args}"],
-                            cwd=ROOT, env=env, stdout=subprocess.DEVNULL,
-                            stderr=open(tmp_path / "lab.log", "w"), start_new_session=True)
-    base = f"http://127.0.0.1:{port}"
-    try:
-        deadline = time.monotonic() + 60
+class LabServer:
+    """`make lab` on a free port, with a known token and throwaway user settings. It boots
+    in the background (a thread waits for it and starts the notebook's kernel), so that
+    the decks are tested meanwhile."""
+
+    def __init__(self, tmp):
+        settings = tmp / "settings"
+        for rel, value in LAB_SETTINGS.items():
+            (settings / rel).parent.mkdir(parents=True, exist_ok=True)
+            (settings / rel).write_text(json.dumps(value))
+        port, self.token = _free_port(), secrets.token_hex(16)
+        self.base, self.log = f"http://127.0.0.1:{port}", tmp / "lab.log"
+        env = dict(os.environ, JUPYTERLAB_SETTINGS_DIR=str(settings),
+                   JUPYTERLAB_WORKSPACES_DIR=str(tmp / "workspaces"),
+                   JUPYTER_RUNTIME_DIR=str(tmp / "runtime"), JUPYTER_CONFIG_DIR=str(tmp / "config"))
+        args = (f"--no-browser --port={port} --ServerApp.port_retries=0 "
+                f"--IdentityProvider.token={self.token} "
+                "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate")
+        # -o: take .venv as it is (a test never rebuilds it)
+        with open(self.log, "w") as log:
+            self.proc = subprocess.Popen(
+                ["make", "-s", "-o", ".venv/.installed", "lab", f"LAB_ARGS={args}"],
+                cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=log, start_new_session=True)
+        self.error = None
+        self.thread = threading.Thread(target=self._boot, daemon=True)
+        self.thread.start()
+
+    def _api(self, path, body=None):
+        req = urllib.request.Request(f"{self.base}/api/{path}?token={self.token}",
+                                     data=body and json.dumps(body).encode(),
+                                     headers={"Content-Type": "application/json"})
+        return urllib.request.urlopen(req, timeout=30)
+
+    def _boot(self):
+        deadline = time.monotonic() + 90
         while True:
             try:
-                urllib.request.urlopen(f"{base}/api/status?token={token}", timeout=2)
+                self._api("status")
                 break
             except OSError:
-                if proc.poll() is not None or time.monotonic() > deadline:
-                    pytest.fail("JupyterLab did not start:\n" + (tmp_path / "lab.log").read_text())
-                time.sleep(0.25)
-        # start the notebook's kernel now, so that it boots while the page loads; JupyterLab
-        # attaches to this session when it opens the notebook
+                if self.proc.poll() is not None or time.monotonic() > deadline:
+                    self.error = "JupyterLab did not start:\n" + self.log.read_text()
+                    return
+                time.sleep(0.2)
+        # JupyterLab attaches to this session when it opens the notebook
         rel = LAB_NOTEBOOK.relative_to(ROOT / "notebooks").as_posix()
-        body = json.dumps({"path": rel, "name": LAB_NOTEBOOK.name, "type": "notebook",
-                           "kernel": {"name": "python3"}}).encode()
-        urllib.request.urlopen(urllib.request.Request(
-            f"{base}/api/sessions?token={token}", data=body, method="POST",
-            headers={"Content-Type": "application/json"}), timeout=30)
-        yield base, token
-    finally:
-        os.killpg(proc.pid, signal.SIGTERM)
         try:
-            proc.wait(timeout=15)
+            self._api("sessions", {"path": rel, "name": LAB_NOTEBOOK.name, "type": "notebook",
+                                   "kernel": {"name": "python3"}})
+        except OSError as e:
+            self.error = f"could not start a kernel: {e}\n" + self.log.read_text()
+
+    def wait(self):
+        self.thread.join(timeout=120)
+        if self.error or self.thread.is_alive():
+            pytest.fail(self.error or "JupyterLab took more than two minutes to start")
+        return self.base, self.token
+
+    def stop(self):
+        os.killpg(self.proc.pid, signal.SIGTERM)
+        try:
+            self.proc.wait(timeout=15)
         except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
+            os.killpg(self.proc.pid, signal.SIGKILL)
+            self.proc.wait()
+
+
+@pytest.fixture(scope="module", autouse=True)
+def lab_server(request, tmp_path_factory):
+    """Started with the module, if its JupyterLab test is going to run here."""
+    wanted = any(item.name == "test_jupyterlab_runs_the_notebook" and item.module is request.module
+                 for item in request.session.items)
+    if not wanted or not chromium_executable() or not (ROOT / ".venv" / "bin" / "jupyter").exists():
+        yield None
+        return
+    server = LabServer(tmp_path_factory.mktemp("lab"))
+    yield server
+    server.stop()
+
+
+@pytest.fixture
+def lab(lab_server):
+    require_chromium()
+    if lab_server is None:
+        pytest.skip("`make lab` needs the course's .venv (run `make lab` or `make test` once)")
+    return lab_server.wait()
 
 
 def _menu(page, menu, item):

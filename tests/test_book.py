@@ -63,8 +63,11 @@ def test_every_link_in_the_book_resolves(pages):
             elif url.fragment and not {url.fragment, unquote(url.fragment)} & _ids(target):
                 broken.append(f"{page.name}: {href} (no such anchor in {target.name})")
         for src in map(html.unescape, LOADS.findall(text)):
-            if urlsplit(src).scheme in ("http", "https") or src.startswith("//"):
+            url = urlsplit(src)
+            if url.scheme in ("http", "https") or src.startswith("//"):
                 broken.append(f"{page.name}: loads {src} from the network")
+            elif not url.scheme and not (page.parent / unquote(url.path)).is_file():
+                broken.append(f"{page.name}: loads {src}, which is not there")
     assert not broken, "\n".join(broken)
 
 

@@ -21,8 +21,8 @@ from nbformat.v4 import new_markdown_cell, new_notebook
 from traitlets.config import Config
 
 from tools import vendor
-from tools.common import (BUILD, NOTEBOOKS, TEMPLATES, Stamps, course_notebooks, label, read, relink,
-                          tooling_key, write_atomic)
+from tools.common import (BUILD, NOTEBOOKS, TEMPLATES, Stamps, copy_assets, course_notebooks, label,
+                          read, relink, tooling_key, write_atomic)
 
 VENDOR_DIR = "vendor"
 BOOK_TITLE = "The exponential and logarithm of SO(3)"
@@ -139,6 +139,7 @@ def build(out=BUILD / "book", notebooks=None):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     vendor.install(out / VENDOR_DIR, ["mathjax", "requirejs"])
+    copy_assets(out)
     paths = [Path(p) for p in (notebooks or course_notebooks())]
     # every page lists every notebook, so the whole book is rebuilt when any input changes
     stamps = Stamps(out)

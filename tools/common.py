@@ -108,3 +108,12 @@ def write_atomic(path, text):
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     tmp.write_text(text, encoding="utf-8")
     os.replace(tmp, path)
+
+
+def copy_assets(out):
+    """Copy the notebooks' own pictures (notebooks/images/) next to the rendered pages, so
+    that a markdown image link like images/x.png works there too."""
+    import shutil
+    src = NOTEBOOKS / "images"
+    if src.is_dir():
+        shutil.copytree(src, Path(out) / "images", dirs_exist_ok=True)

@@ -20,8 +20,8 @@ from nbconvert.exporters import SlidesExporter
 from traitlets.config import Config
 
 from tools import vendor
-from tools.common import (BUILD, TEMPLATES, Stamps, course_notebooks, read, relink, tooling_key,
-                          write_atomic)
+from tools.common import (BUILD, TEMPLATES, Stamps, copy_assets, course_notebooks, read, relink,
+                          tooling_key, write_atomic)
 
 VENDOR_DIR = "vendor"
 
@@ -54,6 +54,7 @@ def build(out=BUILD / "slides", notebooks=None):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     vendor.install(out / VENDOR_DIR, ["reveal.js", "mathjax", "jquery", "requirejs"])
+    copy_assets(out)
     exp, stamps, tooling = exporter(), Stamps(out), tooling_key()
     written = []
     for path in notebooks or course_notebooks():

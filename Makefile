@@ -49,10 +49,14 @@ test-notebooks: $(STAMP)
 test-browser: $(STAMP)
 	$(BIN)/python -m pytest -n 2 --dist loadfile tests/test_browser.py tests/test_book.py
 
+# Timing metadata is dropped and consecutive prints merged into one output, so that
+# re-executing an unchanged notebook leaves its file unchanged.
 execute: $(STAMP)
 	$(BIN)/jupyter nbconvert --to notebook --execute --inplace \
 	    --ExecutePreprocessor.timeout=300 --ExecutePreprocessor.kernel_name=python3 \
-	    --ExecutePreprocessor.record_timing=False $(NOTEBOOKS)
+	    --ExecutePreprocessor.record_timing=False \
+	    --NotebookExporter.preprocessors=nbconvert.preprocessors.CoalesceStreamsPreprocessor \
+	    $(NOTEBOOKS)
 
 bench: $(STAMP)
 	$(BIN)/python tests/benchmark.py

@@ -16,6 +16,15 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 EPS = np.finfo(float).eps
 
 
+@pytest.fixture(scope="session")
+def browser():
+    """The one Chromium of this test process, shared by the book and browser tests and
+    closed after all of them (skipped, or failed under CI, when there is none)."""
+    from browser_support import close_shared_browser, shared_browser
+    yield shared_browser()
+    close_shared_browser()
+
+
 @pytest.fixture
 def rng():
     """One seeded generator per test: the same numbers on every run."""

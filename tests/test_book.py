@@ -14,8 +14,7 @@ from urllib.parse import unquote, urlsplit
 
 import pytest
 
-from browser_support import (MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, close_shared_browser,
-                             screenshot, shared_browser)
+from browser_support import MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, screenshot
 from tools import book
 from tools.common import course_notebooks
 
@@ -69,12 +68,6 @@ def test_every_link_in_the_book_resolves(pages):
             elif not url.scheme and not (page.parent / unquote(url.path)).is_file():
                 broken.append(f"{page.name}: loads {src}, which is not there")
     assert not broken, "\n".join(broken)
-
-
-@pytest.fixture(scope="session")
-def browser():
-    yield shared_browser()
-    close_shared_browser()
 
 
 @pytest.mark.browser

@@ -24,7 +24,7 @@ import pytest
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 
 from browser_support import (MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, chromium_executable,
-                             close_shared_browser, require_chromium, screenshot, shared_browser)
+                             require_chromium, screenshot)
 from tools import slides
 from tools.common import course_notebooks, read
 
@@ -32,12 +32,6 @@ pytestmark = pytest.mark.browser
 
 NOTEBOOKS = course_notebooks()
 SLIDE_TYPES = {"slide", "subslide", "fragment", "skip", "notes", "-"}
-
-
-@pytest.fixture(scope="session")
-def browser():
-    yield shared_browser()
-    close_shared_browser()
 
 
 def _build(what, *args):

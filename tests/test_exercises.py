@@ -87,3 +87,11 @@ def test_diagnose_is_not_called_on_malformed_results():
 def test_messages_show_no_negative_zeros():
     fb = check_value(np.array([[-0.0, 1.0], [0.0, 2.0]]), np.eye(2), "M")
     assert "-0." not in repr(fb)
+
+
+def test_diagnose_is_not_called_on_text():
+    def diagnose(got, args):
+        raise AssertionError("must not be called")
+
+    fb = check_function(lambda a: "text", so3lib.hat, INPUTS, "hat", diagnose=diagnose)
+    assert "not a number" in repr(fb)

@@ -2,27 +2,13 @@
 raising, wrong-shape, NaN and typical wrong answers get a helpful message, never an
 exception."""
 
-import re
-
 import numpy as np
 import pytest
 
 import so3lib
-from so3lib.exercises import Feedback
+from checker_support import not_written as _not_written, says_for as _says
 from so3lib.exercises.hat_map import (check_fifth_power, check_hat,
                                       check_power_coefficients, power_coefficients)
-
-
-def _not_written(*args):
-    raise NotImplementedError
-
-
-def _says(fb, name, pattern):
-    """The feedback failed, starts with the exercise's name, and matches ``pattern``."""
-    text = repr(fb)
-    assert isinstance(fb, Feedback) and not fb, text
-    assert text.startswith(f"Not yet: {name}"), text
-    assert re.search(pattern, text), text
 
 
 # ------------------------------------------------------------------ 1.1 hat

@@ -2,27 +2,14 @@
 missing answer, a raising function, a wrong shape, NaN and the usual wrong answers each
 get a helpful message, never an exception."""
 
-import re
-
 import numpy as np
 import pytest
 
 import so3lib
-from so3lib.exercises import Feedback
+from checker_support import not_written as _not_written, says as _says
 from so3lib.exercises.logarithm import (R41, TAU41, all_logs, check_all_logs,
                                         check_halfturn_axis, check_log_at_pi,
                                         check_sigma_and_axis)
-
-
-def _raise_not_implemented(*args):
-    raise NotImplementedError
-
-
-def _says(fb, pattern):
-    assert isinstance(fb, Feedback)
-    assert not fb, repr(fb)
-    assert repr(fb).startswith("Not yet:"), repr(fb)
-    assert re.search(pattern, repr(fb)), repr(fb)
 
 
 # ----------------------------------------------------------------------- exercise 4.1
@@ -80,7 +67,7 @@ def _first_column(R):
     (None, "No answer yet"),
     (..., "No answer yet"),
     (3, "Expected a function"),
-    (_raise_not_implemented, "Not written yet"),
+    (_not_written, "Not written yet"),
     (lambda R: 1 / 0, "raised ZeroDivisionError"),
     (lambda R: None, "returned None"),
     (lambda R: np.eye(3), r"shape \(3, 3\); expected a vector"),
@@ -121,7 +108,7 @@ def test_all_logs_reference():
 
 @pytest.mark.parametrize("student, says", [
     (None, "No answer yet"),
-    (_raise_not_implemented, "Not written yet"),
+    (_not_written, "Not written yet"),
     (lambda R, b: 1 / 0, "raised ZeroDivisionError"),
     (lambda R, b: None, "returned None"),
     (lambda R, b: np.zeros((2, 2)), r"shape \(2, 2\); expected shape \(m, 3\)"),
@@ -155,7 +142,7 @@ def _first_nonzero(n):
 
 @pytest.mark.parametrize("student, says", [
     (None, "No answer yet"),
-    (_raise_not_implemented, "Not written yet"),
+    (_not_written, "Not written yet"),
     (lambda n: 1 / 0, "raised ZeroDivisionError"),
     (lambda n: np.pi, r"shape \(\); expected shape \(3,\)"),
     (lambda n: np.full(3, np.nan), "NaN or inf"),

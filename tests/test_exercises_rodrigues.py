@@ -3,26 +3,14 @@ raising, wrong-shape, NaN and typical wrong answers get a helpful message, never
 exception."""
 
 import math
-import re
 import warnings
 
 import numpy as np
 import pytest
 
 import so3lib
-from so3lib.exercises import Feedback
+from checker_support import not_written as _not_written, says_for as _says
 from so3lib.exercises.rodrigues import check_B, check_partial_sum, check_quarter_turn
-
-
-def _not_written(*args):
-    raise NotImplementedError
-
-
-def _says(fb, name, pattern):
-    text = repr(fb)
-    assert isinstance(fb, Feedback) and not fb, text
-    assert text.startswith(f"Not yet: {name}"), text
-    assert re.search(pattern, text), text
 
 
 # ------------------------------------------------------------------ 2.1 partial sums

@@ -2,26 +2,13 @@
 missing answer, a raising function, a wrong shape, NaN and the usual wrong answers each
 get a helpful message, never an exception."""
 
-import re
-
 import numpy as np
 import pytest
 
+from checker_support import not_written as _not_written, says as _says
 from so3lib import so2
-from so3lib.exercises import Feedback
 from so3lib.exercises.so2_complex import (ACCEL, OMEGA0, T_END, check_quaternion,
                                           check_so2_log, check_varying_rate, quaternion)
-
-
-def _raise_not_implemented(*args):
-    raise NotImplementedError
-
-
-def _says(fb, pattern):
-    assert isinstance(fb, Feedback)
-    assert not fb, repr(fb)
-    assert repr(fb).startswith("Not yet:"), repr(fb)
-    assert re.search(pattern, repr(fb)), repr(fb)
 
 
 # ----------------------------------------------------------------------- exercise 3.1
@@ -34,7 +21,7 @@ def test_so2_log_right_answer_passes():
 @pytest.mark.parametrize("student, says", [
     (None, "No answer yet"),
     (..., "No answer yet"),
-    (_raise_not_implemented, "Not written yet"),
+    (_not_written, "Not written yet"),
     (lambda R: 1 / 0, "raised ZeroDivisionError"),
     (lambda R: np.array([1.0, 2.0]), r"has shape \(2,\); expected shape \(\)"),
     (lambda R: np.nan, "NaN or inf"),
@@ -88,7 +75,7 @@ def test_quaternion_right_answer_passes():
 
 @pytest.mark.parametrize("student, says", [
     (None, "No answer yet"),
-    (_raise_not_implemented, "Not written yet"),
+    (_not_written, "Not written yet"),
     (lambda n, t: n[5], "raised IndexError"),
     (lambda n, t: n, r"has shape \(3,\); expected shape \(4,\)"),
     (lambda n, t: np.full(4, np.nan), "NaN or inf"),

@@ -164,11 +164,14 @@ def check_function(func, reference, inputs, name, atol=1e-10, rtol=1e-10, hint=N
             expected = reference(*args)
             result = _compare(got, expected, name, atol, rtol, None, context=shown)
             if result is not True and diagnose is not None:
-                got_arr = np.asarray(got, dtype=float)
-                extra = diagnose(got_arr, args) if np.shape(got_arr) == np.shape(expected) \
-                    and np.isfinite(got_arr).all() else None
+                try:
+                    got_arr = np.asarray(got, dtype=float)
+                except (TypeError, ValueError):    # not numbers: _compare has said so
+                    got_arr = None
+                extra = diagnose(got_arr, args) if got_arr is not None and \
+                    np.shape(got_arr) == np.shape(expected) and np.isfinite(got_arr).all() else None
                 if extra:
-                    result = Feedback(False, f"{result.message} {extra}")
+                    result = Feedback(False, f"{result.message} {extra.strip()}")
         except Exception as err:
             return _fail(name, f"The result on {shown} could not be checked "
                                f"({type(err).__name__}: {err}).", hint)

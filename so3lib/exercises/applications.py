@@ -20,7 +20,7 @@ import numpy as np
 
 from ..so3 import exp, log
 from ..validation import rotation_defects
-from . import _NOT_ANSWERED, Feedback, _compare, _fail, _fmt, _ok
+from . import _NOT_ANSWERED, Feedback, _compare, _fail, _fmt, _ok, check_function
 
 __all__ = ["check_interpolate", "check_euler_stretch", "check_angular_velocity",
            "check_rotation_mean", "interpolate_reference", "rotation_mean_reference"]
@@ -79,49 +79,10 @@ def _close(a, b, atol):
 
 
 def _run_cases(func, reference, cases, name, atol, diagnose, hint):
-    """Call ``func(*args)`` on each case; compare with ``reference(*args)``.
-
-    ``cases`` is a list of ``(label, args)``; the label names the input in words in the
-    message (the arrays themselves would make it unreadable). ``diagnose(got, args)``
-    returns an extra sentence naming a recognised mistake, or None.
-    """
-    if func is None or func is Ellipsis:
-        return _fail(name, _NOT_ANSWERED)
-    if not callable(func):
-        return _fail(name, f"Expected a function, got a {type(func).__name__}.")
-    for label, args in cases:
-        try:
-            got = func(*[np.array(a, copy=True) if isinstance(a, np.ndarray) else a
-                         for a in args])
-        except NotImplementedError:
-            return _fail(name, "Not written yet: the function still raises NotImplementedError.")
-        except Exception as err:
-            return _fail(name, f"Calling it for {label} raised {type(err).__name__}: {err}", hint)
-        if got is None:
-            return _fail(name, f"It returned None for {label}: is the `return` missing?")
-        try:
-            expected = reference(*args)
-            result = _compare(got, expected, name, atol, 0.0, None, context=label)
-            if result is not True:
-                extra = None
-                try:
-                    got_arr = np.asarray(got, dtype=float)
-                except (TypeError, ValueError):
-                    got_arr = None
-                if got_arr is not None and got_arr.shape == np.shape(expected) and \
-                        np.isfinite(got_arr).all():
-                    extra = diagnose(got_arr, args)
-                text = result.message
-                if extra:
-                    text += extra
-                if hint:
-                    text += f"\nHint: {hint}"
-                return Feedback(False, text)
-        except Exception as err:
-            return _fail(name, f"The result for {label} could not be checked "
-                               f"({type(err).__name__}: {err}).", hint)
-    n = len(cases)
-    return _ok(name, f"It agrees with the reference on {n} test input{'s' if n != 1 else ''}.")
+    """:func:`check_function` with labelled cases, absolute tolerance ``atol`` and the
+    diagnosis of this notebook's usual mistakes."""
+    return check_function(func, reference, cases, name, atol=atol, rtol=0.0, hint=hint,
+                          diagnose=diagnose, reference_name="the reference")
 
 
 # --- 5.1 interpolation ----------------------------------------------------------------

@@ -16,7 +16,7 @@ Each checker returns a :class:`so3lib.exercises.Feedback` and never raises.
 import numpy as np
 
 from ..so3 import exp, log
-from . import _NOT_ANSWERED, Feedback, _compare, _fail, _ok
+from . import _NOT_ANSWERED, Feedback, _compare, _fail, _ok, check_function
 
 __all__ = ["check_power_table", "check_wrapped_velocity", "POWER_TABLE_OMEGA"]
 
@@ -114,34 +114,9 @@ def check_wrapped_velocity(func):
     hint = ("phi = omega tau has angle theta = |phi|. Reduce theta modulo 2 pi to r; if r > pi, "
             "the shortest turn is 2 pi - r the other way. Divide the resulting rotation vector "
             "by tau, and treat omega = 0 separately.")
-    if func is None or func is Ellipsis:
-        return _fail(name, _NOT_ANSWERED)
-    if not callable(func):
-        return _fail(name, f"Expected a function, got a {type(func).__name__}.")
-    for label, args in _WRAP_CASES:
-        try:
-            got = func(args[0].copy(), args[1])
-        except NotImplementedError:
-            return _fail(name, "Not written yet: the function still raises NotImplementedError.")
-        except Exception as err:
-            return _fail(name, f"For {label}, it raised {type(err).__name__}: {err}", hint)
-        if got is None:
-            return _fail(name, f"It returned None for {label}: is the `return` missing?")
-        try:
-            result = _compare(got, _wrapped_velocity_reference(*args), name, 1e-9, 0.0, None,
-                              context=label)
-            if result is True:
-                continue
-            extra = ""
-            try:
-                got_arr = np.asarray(got, dtype=float)
-            except (TypeError, ValueError):
-                got_arr = None
-            if got_arr is not None and got_arr.shape == (3,) and np.isfinite(got_arr).all():
-                extra = _diagnose_wrapped(got_arr, *args) or ""
-            return Feedback(False, result.message + extra + f"\nHint: {hint}")
-        except Exception as err:
-            return _fail(name, f"The result for {label} could not be checked "
-                               f"({type(err).__name__}: {err}).", hint)
+    fb = check_function(func, _wrapped_velocity_reference, _WRAP_CASES, name, atol=1e-9,
+                        rtol=0.0, hint=hint, diagnose=lambda got, args: _diagnose_wrapped(got, *args))
+    if not fb:
+        return fb
     return _ok(name, f"It predicts what log returns in {len(_WRAP_CASES)} cases: exp and log "
                      "are inverses only below half a turn.")

@@ -95,3 +95,15 @@ def test_diagnose_is_not_called_on_text():
 
     fb = check_function(lambda a: "text", so3lib.hat, INPUTS, "hat", diagnose=diagnose)
     assert "not a number" in repr(fb)
+
+
+def test_never_raises_turns_an_unforeseen_error_into_a_message():
+    from so3lib.exercises import never_raises
+
+    @never_raises("the answer")
+    def checker(answer):
+        return Feedback(True, "Correct") if answer[7] else Feedback(False, "Not yet")
+
+    fb = checker([1.0])
+    assert not fb and repr(fb).startswith("Not yet: the answer. The answer could not be checked (IndexError")
+    assert checker.__name__ == "checker"

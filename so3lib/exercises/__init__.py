@@ -12,9 +12,11 @@ for notebook 01, and so on); they are thin wrappers around :func:`check_value` a
 :func:`check_function` defined here.
 """
 
+import functools
+
 import numpy as np
 
-__all__ = ["Feedback", "check_value", "check_function"]
+__all__ = ["Feedback", "check_value", "check_function", "never_raises"]
 
 _NOT_ANSWERED = "No answer yet: replace the `...` (or `None`) with your answer and run the cell again."
 
@@ -106,6 +108,23 @@ def check_value(answer, expected, name, atol=1e-8, rtol=1e-8, hint=None):
         return _ok(name) if result is True else result
     except Exception as err:  # a checker must never stop the notebook
         return _fail(name, f"The answer could not be checked ({type(err).__name__}: {err}).", hint)
+
+
+def never_raises(name):
+    """Decorate a checker so that any exception inside it becomes a "Not yet" message.
+
+    A checker must never stop the notebook: a learner's answer can be anything, and an
+    answer the checker did not foresee gets "could not be checked" and the reason.
+    """
+    def decorate(checker):
+        @functools.wraps(checker)
+        def safe(*args, **kwargs):
+            try:
+                return checker(*args, **kwargs)
+            except Exception as err:
+                return _fail(name, f"The answer could not be checked ({type(err).__name__}: {err}).")
+        return safe
+    return decorate
 
 
 def _labelled(inputs):

@@ -20,7 +20,8 @@ import numpy as np
 
 from ..so3 import exp, log
 from ..validation import rotation_defects
-from . import _NOT_ANSWERED, Feedback, _compare, _fail, _fmt, _ok, check_function
+from . import (_NOT_ANSWERED, Feedback, _compare, _fail, _fmt, _ok, check_function,
+               never_raises)
 
 __all__ = ["check_interpolate", "check_euler_stretch", "check_angular_velocity",
            "check_rotation_mean", "interpolate_reference", "rotation_mean_reference"]
@@ -137,6 +138,7 @@ EULER_DT = 0.05                              # s
 EULER_STEPS = 200
 
 
+@never_raises("the length of R_N e_x after 200 Euler steps")
 def check_euler_stretch(answer):
     r"""Exercise 5.2: the length of :math:`R_N e_x` after N Euler steps from ``I``.
 
@@ -146,41 +148,38 @@ def check_euler_stretch(answer):
     :math:`1.01^{100} \approx 2.7048`.
     """
     name = "the length of R_N e_x after 200 Euler steps"
+    if answer is None or answer is Ellipsis:
+        return _fail(name, _NOT_ANSWERED)
+    w, dt, N = float(np.linalg.norm(EULER_OMEGA)), EULER_DT, EULER_STEPS
+    expected = (1.0 + (dt * w) ** 2) ** (N / 2)
+    hint = ("One Euler step multiplies a vector perpendicular to omega by "
+            "(I + dt hat(omega)); compute the length of that product (Pythagoras), "
+            "then repeat it N times.")
+    result = _compare(answer, expected, name, 1e-6, 1e-6, None)
+    if result is None:
+        return _fail(name, _NOT_ANSWERED)
+    if result is True:
+        return _ok(name, "The body has grown to 2.7 times its size: Euler steps are "
+                         "not rotations.")
     try:
-        if answer is None or answer is Ellipsis:
-            return _fail(name, _NOT_ANSWERED)
-        w, dt, N = float(np.linalg.norm(EULER_OMEGA)), EULER_DT, EULER_STEPS
-        expected = (1.0 + (dt * w) ** 2) ** (N / 2)
-        hint = ("One Euler step multiplies a vector perpendicular to omega by "
-                "(I + dt hat(omega)); compute the length of that product (Pythagoras), "
-                "then repeat it N times.")
-        result = _compare(answer, expected, name, 1e-6, 1e-6, None)
-        if result is None:
-            return _fail(name, _NOT_ANSWERED)
-        if result is True:
-            return _ok(name, "The body has grown to 2.7 times its size: Euler steps are "
-                             "not rotations.")
-        try:
-            got = float(np.asarray(answer, dtype=float).reshape(()))
-        except (TypeError, ValueError):
-            got = None
-        extra = ""
-        if got is not None and np.isfinite(got):
-            if np.isclose(got, 1.0):
-                extra = (" A rotation would keep the length 1, but I + dt hat(omega) is "
-                         "not a rotation.")
-            elif np.isclose(got, (1 + (dt * w) ** 2) ** N, rtol=1e-4):
-                extra = (" That is the squared length: the length grows by the square "
-                         "root of 1 + dt^2 |omega|^2 per step.")
-            elif np.isclose(got, (1 + dt * w) ** N, rtol=1e-4) or \
-                    np.isclose(got, (1 + dt * w) ** (N / 2), rtol=1e-4):
-                extra = (" dt hat(omega) e_x is perpendicular to e_x, so the lengths add "
-                         "like the sides of a right triangle, not along a line.")
-            elif np.isclose(got, np.sqrt(1 + (dt * w) ** 2), rtol=1e-6):
-                extra = " That is one step; the question asks for N = 200 steps."
-        return Feedback(False, result.message + extra + f"\nHint: {hint}")
-    except Exception as err:  # a checker must never stop the notebook
-        return _fail(name, f"The answer could not be checked ({type(err).__name__}: {err}).")
+        got = float(np.asarray(answer, dtype=float).reshape(()))
+    except (TypeError, ValueError):
+        got = None
+    extra = ""
+    if got is not None and np.isfinite(got):
+        if np.isclose(got, 1.0):
+            extra = (" A rotation would keep the length 1, but I + dt hat(omega) is "
+                     "not a rotation.")
+        elif np.isclose(got, (1 + (dt * w) ** 2) ** N, rtol=1e-4):
+            extra = (" That is the squared length: the length grows by the square "
+                     "root of 1 + dt^2 |omega|^2 per step.")
+        elif np.isclose(got, (1 + dt * w) ** N, rtol=1e-4) or \
+                np.isclose(got, (1 + dt * w) ** (N / 2), rtol=1e-4):
+            extra = (" dt hat(omega) e_x is perpendicular to e_x, so the lengths add "
+                     "like the sides of a right triangle, not along a line.")
+        elif np.isclose(got, np.sqrt(1 + (dt * w) ** 2), rtol=1e-6):
+            extra = " That is one step; the question asks for N = 200 steps."
+    return Feedback(False, result.message + extra + f"\nHint: {hint}")
 
 
 # --- 5.3 angular velocity from two orientations ---------------------------------------

@@ -17,7 +17,7 @@ Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises.
 import numpy as np
 
 from ..so3 import hat
-from . import Feedback, check_function, check_value
+from . import Feedback, check_function, check_value, never_raises
 
 __all__ = ["check_hat", "check_fifth_power", "check_power_coefficients",
            "power_coefficients"]
@@ -97,6 +97,7 @@ def check_hat(func):
                           _HAT_INPUTS, "hat_matrix", hint=_HAT_HINT)
 
 
+@never_raises("the coefficient c of hat(a)^5 = c hat(a)")
 def check_fifth_power(answer):
     r"""Exercise 1.2: the number ``c`` with :math:`\hat a^5 = c\,\hat a` for ``a = (1, 2, 3)``.
 
@@ -110,33 +111,29 @@ def check_fifth_power(answer):
         arr = None if answer is None or answer is Ellipsis else np.asarray(answer, dtype=float)
     except Exception:  # not a number: check_value writes the message
         arr = None
-    try:
-        if arr is not None and arr.shape == (3, 3) and np.isfinite(arr).all():
-            H = hat(A_FIFTH)
-            c = float(np.sum(arr * H) / np.sum(H * H))   # the best c with arr ~ c hat(a)
-            if np.allclose(arr, c * H, atol=1e-8, rtol=1e-10):
-                verdict = ("and that matrix is right" if np.isclose(c, expected)
-                           else "but it is not hat(a)^5")
-                return Feedback(False, f"Not yet: {name}. You gave a 3x3 matrix, equal to "
-                                       f"{c:.6g} hat(a), {verdict}. The exercise asks for the "
-                                       "number c itself.")
-        hint = ("Start from the Lemma, hat(a)^3 = -|a|^2 hat(a), and write "
-                "hat(a)^5 = hat(a)^3 hat(a)^2 = -|a|^2 hat(a)^3. Here |a|^2 = 1 + 4 + 9 = 14.")
-        if arr is not None and arr.shape == () and np.isfinite(arr):
-            x = float(arr)
-            if np.isclose(x, -expected):
-                hint = ("Right size, wrong sign: each use of the Lemma brings a factor "
-                        "-|a|^2, and you used it twice, so the two minus signs cancel.")
-            elif np.isclose(abs(x), n2):
-                hint = ("That is (up to sign) the factor of hat(a)^3 = -|a|^2 hat(a). Apply "
-                        "the Lemma once more: hat(a)^5 = hat(a)^3 hat(a)^2.")
-            elif any(np.isclose(abs(x), v) for v in (n2 ** 1.5, n2 ** 2.5, n2 ** 4, n2 ** 5)):
-                hint = ("Check the power of |a|: hat(a)^(2k+1) = (-1)^k |a|^(2k) hat(a), and "
-                        "5 = 2k + 1 gives k = 2, so the factor is |a|^4 = (|a|^2)^2.")
-        return check_value(answer, expected, name, atol=1e-9, rtol=1e-9, hint=hint)
-    except Exception as err:  # a checker must never stop the notebook
-        return Feedback(False, f"Not yet: {name}. The answer could not be checked "
-                               f"({type(err).__name__}: {err}).")
+    if arr is not None and arr.shape == (3, 3) and np.isfinite(arr).all():
+        H = hat(A_FIFTH)
+        c = float(np.sum(arr * H) / np.sum(H * H))   # the best c with arr ~ c hat(a)
+        if np.allclose(arr, c * H, atol=1e-8, rtol=1e-10):
+            verdict = ("and that matrix is right" if np.isclose(c, expected)
+                       else "but it is not hat(a)^5")
+            return Feedback(False, f"Not yet: {name}. You gave a 3x3 matrix, equal to "
+                                   f"{c:.6g} hat(a), {verdict}. The exercise asks for the "
+                                   "number c itself.")
+    hint = ("Start from the Lemma, hat(a)^3 = -|a|^2 hat(a), and write "
+            "hat(a)^5 = hat(a)^3 hat(a)^2 = -|a|^2 hat(a)^3. Here |a|^2 = 1 + 4 + 9 = 14.")
+    if arr is not None and arr.shape == () and np.isfinite(arr):
+        x = float(arr)
+        if np.isclose(x, -expected):
+            hint = ("Right size, wrong sign: each use of the Lemma brings a factor "
+                    "-|a|^2, and you used it twice, so the two minus signs cancel.")
+        elif np.isclose(abs(x), n2):
+            hint = ("That is (up to sign) the factor of hat(a)^3 = -|a|^2 hat(a). Apply "
+                    "the Lemma once more: hat(a)^5 = hat(a)^3 hat(a)^2.")
+        elif any(np.isclose(abs(x), v) for v in (n2 ** 1.5, n2 ** 2.5, n2 ** 4, n2 ** 5)):
+            hint = ("Check the power of |a|: hat(a)^(2k+1) = (-1)^k |a|^(2k) hat(a), and "
+                    "5 = 2k + 1 gives k = 2, so the factor is |a|^4 = (|a|^2)^2.")
+    return check_value(answer, expected, name, atol=1e-9, rtol=1e-9, hint=hint)
 
 
 def _power_hint(p):
@@ -151,6 +148,7 @@ def _power_hint(p):
             "a multiple of hat(a)^2 only (c0 = c1 = 0). Note |a|^(2k) = (a @ a)**k.")
 
 
+@never_raises("power_coefficients")
 def check_power_coefficients(func):
     r"""Exercise 1.3: ``func(a, p)`` must return ``(c0, c1, c2)`` with
     :math:`\hat a^p = c_0 I + c_1\hat a + c_2\hat a^2`.
@@ -161,15 +159,11 @@ def check_power_coefficients(func):
     name = "power_coefficients"
     vectors = (np.array([1.0, 2.0, 3.0]), np.array([0.5, -1.0, 0.25]))
     order = list(range(1, 10)) + [0]
-    try:
-        for p in order:
-            for a in vectors:
-                fb = check_function(func, power_coefficients, [(a, p)], name,
-                                    atol=1e-9, rtol=1e-9, hint=_power_hint(p))
-                if not fb:
-                    return fb
-        return Feedback(True, f"Correct: {name}. It gives the right (c0, c1, c2) for "
-                              "p = 0, ..., 9 and two vectors a.")
-    except Exception as err:  # a checker must never stop the notebook
-        return Feedback(False, f"Not yet: {name}. The answer could not be checked "
-                               f"({type(err).__name__}: {err}).")
+    for p in order:
+        for a in vectors:
+            fb = check_function(func, power_coefficients, [(a, p)], name,
+                                atol=1e-9, rtol=1e-9, hint=_power_hint(p))
+            if not fb:
+                return fb
+    return Feedback(True, f"Correct: {name}. It gives the right (c0, c1, c2) for "
+                          "p = 0, ..., 9 and two vectors a.")

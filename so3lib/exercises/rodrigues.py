@@ -23,7 +23,7 @@ import numpy as np
 
 from ..series import B, exp_series
 from ..so3 import exp, hat
-from . import Feedback, check_function, check_value
+from . import Feedback, check_function, check_value, never_raises
 
 __all__ = ["check_partial_sum", "check_quarter_turn", "check_B"]
 
@@ -103,26 +103,24 @@ def _diagnose_sum(got, args):
     return None
 
 
+@never_raises("partial_sum")
 def check_partial_sum(func):
     r"""Exercise 2.1: ``func(omega, tau, terms)`` must equal :func:`so3lib.exp_series`.
 
     .. math:: S_N = \sum_{m=0}^{N-1} \frac{(\tau\hat\omega)^m}{m!}
     """
     name = "partial_sum"
-    try:
-        fb = _check_each(func, exp_series, _SUM_INPUTS, name, 1e-10, 1e-10, _SUM_HINT,
-                         _diagnose_sum)
-        if fb is not None:
-            return fb
-        return Feedback(True, f"Correct: {name}. It agrees with so3lib.exp_series on "
-                              f"{len(_SUM_INPUTS)} test inputs, from 1 term to 9.")
-    except Exception as err:  # a checker must never stop the notebook
-        return Feedback(False, f"Not yet: {name}. The answer could not be checked "
-                               f"({type(err).__name__}: {err}).")
+    fb = _check_each(func, exp_series, _SUM_INPUTS, name, 1e-10, 1e-10, _SUM_HINT,
+                     _diagnose_sum)
+    if fb is not None:
+        return fb
+    return Feedback(True, f"Correct: {name}. It agrees with so3lib.exp_series on "
+                          f"{len(_SUM_INPUTS)} test inputs, from 1 term to 9.")
 
 
 # ---------------------------------------------------------------- exercise 2.2
 
+@never_raises("the rotation reached by omega = (0, 0, pi/2) in tau = 1")
 def check_quarter_turn(answer):
     r"""Exercise 2.2: the rotation :math:`R(\omega, \tau)` for ``omega = (0, 0, pi/2)``, ``tau = 1``.
 
@@ -131,29 +129,25 @@ def check_quarter_turn(answer):
     """
     name = "the rotation reached by omega = (0, 0, pi/2) in tau = 1"
     expected = exp(OMEGA_QUARTER, TAU_QUARTER)
-    try:
-        W = hat(OMEGA_QUARTER)
-        w = float(np.linalg.norm(OMEGA_QUARTER))
-        th = w * TAU_QUARTER
-        printed = np.eye(3) + W / w * math.sin(th) + W / w ** 2 * (1 - math.cos(th))
-        hint = ("theta = |omega| tau = pi/2 and n = (0, 0, 1), so sin(theta) = 1 and "
-                "1 - cos(theta) = 1: R = I + hat(n) + hat(n)^2. The x axis must go to the y axis, "
-                "so the first column of R is (0, 1, 0).")
-        if _close(answer, expected.T):
-            hint = ("That is the turn in the wrong direction (the transpose). A positive angle "
-                    "about +z turns the x axis towards the y axis: R @ (1, 0, 0) = (0, 1, 0).")
-        elif _close(answer, printed):
-            hint = ("That is the notes' printed last line, whose third term has hat(omega) "
-                    "where hat(omega)^2 belongs (errata N1). Square it and try again.")
-        elif _close(answer, np.exp(W * TAU_QUARTER)):
-            hint = ("np.exp works entry by entry; it is not the matrix exponential. Use "
-                    "Rodrigues' formula, so3lib.exp or scipy.linalg.expm.")
-        elif _close(answer, exp(np.degrees(OMEGA_QUARTER), TAU_QUARTER)):
-            hint = "Angles are in radians: the angular velocity is pi/2 rad/s, not 90."
-        return check_value(answer, expected, name, atol=1e-8, rtol=1e-8, hint=hint)
-    except Exception as err:  # a checker must never stop the notebook
-        return Feedback(False, f"Not yet: {name}. The answer could not be checked "
-                               f"({type(err).__name__}: {err}).")
+    W = hat(OMEGA_QUARTER)
+    w = float(np.linalg.norm(OMEGA_QUARTER))
+    th = w * TAU_QUARTER
+    printed = np.eye(3) + W / w * math.sin(th) + W / w ** 2 * (1 - math.cos(th))
+    hint = ("theta = |omega| tau = pi/2 and n = (0, 0, 1), so sin(theta) = 1 and "
+            "1 - cos(theta) = 1: R = I + hat(n) + hat(n)^2. The x axis must go to the y axis, "
+            "so the first column of R is (0, 1, 0).")
+    if _close(answer, expected.T):
+        hint = ("That is the turn in the wrong direction (the transpose). A positive angle "
+                "about +z turns the x axis towards the y axis: R @ (1, 0, 0) = (0, 1, 0).")
+    elif _close(answer, printed):
+        hint = ("That is the notes' printed last line, whose third term has hat(omega) "
+                "where hat(omega)^2 belongs (errata N1). Square it and try again.")
+    elif _close(answer, np.exp(W * TAU_QUARTER)):
+        hint = ("np.exp works entry by entry; it is not the matrix exponential. Use "
+                "Rodrigues' formula, so3lib.exp or scipy.linalg.expm.")
+    elif _close(answer, exp(np.degrees(OMEGA_QUARTER), TAU_QUARTER)):
+        hint = "Angles are in radians: the angular velocity is pi/2 rad/s, not 90."
+    return check_value(answer, expected, name, atol=1e-8, rtol=1e-8, hint=hint)
 
 
 # ---------------------------------------------------------------- exercise 2.3
@@ -188,18 +182,15 @@ def _diagnose_B(got, args):
     return None
 
 
+@never_raises("B_stable")
 def check_B(func):
     r"""Exercise 2.3: ``func(t)`` must give :math:`B(t) = (1 - \cos t)/t^2` to 1e-12 relative.
 
     Tries ``t`` from 1 down to 1e-8, then ``t = 0`` (where ``B = 1/2``) and ``t = 30``.
     """
     name = "B_stable"
-    try:
-        fb = _check_each(func, B, _B_INPUTS, name, 1e-15, 1e-12, _B_HINT, _diagnose_B)
-        if fb is not None:
-            return fb
-        return Feedback(True, f"Correct: {name}. It is accurate to 1e-12 (relative) at "
-                              "t = 0, 1e-8, ..., 30.")
-    except Exception as err:  # a checker must never stop the notebook
-        return Feedback(False, f"Not yet: {name}. The answer could not be checked "
-                               f"({type(err).__name__}: {err}).")
+    fb = _check_each(func, B, _B_INPUTS, name, 1e-15, 1e-12, _B_HINT, _diagnose_B)
+    if fb is not None:
+        return fb
+    return Feedback(True, f"Correct: {name}. It is accurate to 1e-12 (relative) at "
+                          "t = 0, 1e-8, ..., 30.")

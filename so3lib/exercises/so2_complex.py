@@ -19,7 +19,7 @@ Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises.
 import numpy as np
 
 from .. import so2
-from . import Feedback, check_function, check_value
+from . import Feedback, check_function, check_value, never_raises
 
 __all__ = ["check_so2_log", "check_varying_rate", "check_quaternion", "quaternion",
            "OMEGA0", "ACCEL", "T_END"]
@@ -71,6 +71,7 @@ def _so2_log_hint(func):
             "Which NumPy function turns a (sine, cosine) pair into an angle in (-pi, pi]?")
 
 
+@never_raises("so2_log")
 def check_so2_log(func):
     r"""Exercise 3.1: ``func(R)`` must return the angle :math:`\theta \in (-\pi, \pi]` of a
     planar rotation ``R`` (notebook 03, equation (3.12)).
@@ -80,17 +81,14 @@ def check_so2_log(func):
     and arctan of the ratio (loses the quadrant).
     """
     name = "so2_log"
-    try:
-        fb = check_function(func, so2.log, _LOG_INPUTS, name, atol=1e-10, rtol=1e-10)
-        if fb or "No answer yet" in fb.message or "Not written yet" in fb.message \
-                or "Expected a function" in fb.message:
-            return fb
-        return Feedback(False, fb.message + "\nHint: " + _so2_log_hint(func))
-    except Exception as err:  # a checker must never stop the notebook
-        return Feedback(False, f"Not yet: {name}. The answer could not be checked "
-                               f"({type(err).__name__}: {err}).")
+    fb = check_function(func, so2.log, _LOG_INPUTS, name, atol=1e-10, rtol=1e-10)
+    if fb or "No answer yet" in fb.message or "Not written yet" in fb.message \
+            or "Expected a function" in fb.message:
+        return fb
+    return Feedback(False, fb.message + "\nHint: " + _so2_log_hint(func))
 
 
+@never_raises("the rotation R_end at t = T_END")
 def check_varying_rate(answer):
     r"""Exercise 3.2: the 2x2 rotation reached at ``T_END`` by the rate
     :math:`\omega(t) = \omega_0 + a t` starting from the identity.
@@ -105,31 +103,27 @@ def check_varying_rate(answer):
     expected = so2.exp(alpha)
     hint = ("Integrate the rate: alpha = int_0^T (omega0 + a t) dt = omega0 T + a T^2 / 2, "
             "then R_end = so2.exp(alpha).")
+    if answer is None or answer is Ellipsis:
+        return check_value(answer, expected, name)
     try:
-        if answer is None or answer is Ellipsis:
-            return check_value(answer, expected, name)
-        try:
-            arr = np.asarray(answer, dtype=float)
-        except Exception:
-            arr = None
-        if arr is not None and np.isfinite(arr).all():
-            if arr.shape == ():
-                extra = (" (and that angle is right)" if np.isclose(float(arr), alpha)
-                         else "")
-                return Feedback(False, f"Not yet: {name}. You gave a number{extra}; the "
-                                       "exercise asks for the 2x2 rotation matrix: pass the "
-                                       "angle to so2.exp.")
-            if arr.shape == (2, 2):
-                for label, wrong in (("the rate at the end times T", (OMEGA0 + ACCEL * T_END) * T_END),
-                                     ("the rate at the start times T", OMEGA0 * T_END)):
-                    if np.allclose(arr, so2.exp(wrong), atol=1e-8):
-                        hint = (f"Your matrix turns by {wrong:g} rad, {label}. The rate changes "
-                                "during the motion; the angle is its integral, "
-                                "omega0 T + a T^2 / 2.")
-        return check_value(answer, expected, name, atol=1e-9, rtol=1e-9, hint=hint)
-    except Exception as err:  # a checker must never stop the notebook
-        return Feedback(False, f"Not yet: {name}. The answer could not be checked "
-                               f"({type(err).__name__}: {err}).")
+        arr = np.asarray(answer, dtype=float)
+    except Exception:
+        arr = None
+    if arr is not None and np.isfinite(arr).all():
+        if arr.shape == ():
+            extra = (" (and that angle is right)" if np.isclose(float(arr), alpha)
+                     else "")
+            return Feedback(False, f"Not yet: {name}. You gave a number{extra}; the "
+                                   "exercise asks for the 2x2 rotation matrix: pass the "
+                                   "angle to so2.exp.")
+        if arr.shape == (2, 2):
+            for label, wrong in (("the rate at the end times T", (OMEGA0 + ACCEL * T_END) * T_END),
+                                 ("the rate at the start times T", OMEGA0 * T_END)):
+                if np.allclose(arr, so2.exp(wrong), atol=1e-8):
+                    hint = (f"Your matrix turns by {wrong:g} rad, {label}. The rate changes "
+                            "during the motion; the angle is its integral, "
+                            "omega0 T + a T^2 / 2.")
+    return check_value(answer, expected, name, atol=1e-9, rtol=1e-9, hint=hint)
 
 
 def quaternion(n, theta):
@@ -177,6 +171,7 @@ def _quat_hint(func):
     return "q = (cos(theta/2), sin(theta/2) n_x, sin(theta/2) n_y, sin(theta/2) n_z)."
 
 
+@never_raises("quaternion")
 def check_quaternion(func):
     r"""Exercise 3.3: ``func(n, theta)`` must return :math:`(\cos\frac\theta2,
     \sin\frac\theta2\, n)`, scalar part first.
@@ -185,15 +180,11 @@ def check_quaternion(func):
     the half angle, and the scalar part written last.
     """
     name = "quaternion"
-    try:
-        fb = check_function(func, quaternion, _QUAT_INPUTS, name, atol=1e-10, rtol=1e-10)
-        if fb:
-            return Feedback(True, f"Correct: {name}. It gives (cos(theta/2), sin(theta/2) n) on "
-                                  f"{len(_QUAT_INPUTS)} test inputs.")
-        if "No answer yet" in fb.message or "Not written yet" in fb.message \
-                or "Expected a function" in fb.message:
-            return fb
-        return Feedback(False, fb.message + "\nHint: " + _quat_hint(func))
-    except Exception as err:  # a checker must never stop the notebook
-        return Feedback(False, f"Not yet: {name}. The answer could not be checked "
-                               f"({type(err).__name__}: {err}).")
+    fb = check_function(func, quaternion, _QUAT_INPUTS, name, atol=1e-10, rtol=1e-10)
+    if fb:
+        return Feedback(True, f"Correct: {name}. It gives (cos(theta/2), sin(theta/2) n) on "
+                              f"{len(_QUAT_INPUTS)} test inputs.")
+    if "No answer yet" in fb.message or "Not written yet" in fb.message \
+            or "Expected a function" in fb.message:
+        return fb
+    return Feedback(False, fb.message + "\nHint: " + _quat_hint(func))

@@ -6,27 +6,13 @@ kernels work in blocks of a few thousand rotations, so their temporaries stay sm
 A memory test, not a timing test: it does not depend on the machine.
 """
 
-import tracemalloc
-
 import numpy as np
 import pytest
 
 import so3lib
+from benchmark import peak_memory_ratio   # the bench reports the same measure
 
 N = 100_000
-
-
-def peak_over_result(func):
-    """Peak memory allocated during ``func()``, its result included, over the result's size."""
-    func()                                  # first-call allocations outside the count
-    tracemalloc.start()
-    try:
-        base = tracemalloc.get_traced_memory()[0]
-        out = func()
-        peak = tracemalloc.get_traced_memory()[1] - base
-    finally:
-        tracemalloc.stop()
-    return peak / out.nbytes
 
 
 @pytest.fixture(scope="module")
@@ -43,5 +29,5 @@ def batch():
     lambda phi, R: so3lib.angle(R),
 ], ids=["exp", "exp tau", "log", "log tau", "angle"])
 def test_peak_memory_is_under_twice_the_result(batch, call):
-    ratio = peak_over_result(lambda: call(*batch))
+    ratio = peak_memory_ratio(lambda: call(*batch))
     assert ratio < 2.0, f"peak memory {ratio:.2f} x the result"

@@ -10,6 +10,7 @@ True
 Modules: :mod:`so3lib.so3` (hat, vee, exp, log and friends), :mod:`so3lib.so2` (the
 plane and complex numbers), :mod:`so3lib.series` (the power series, for teaching),
 :mod:`so3lib.validation` (input checks and the rotation tolerance),
+:mod:`so3lib.measure` (errors in whole eps, for the notebooks' checks),
 :mod:`so3lib.plot` (figure helpers; imports matplotlib) and :mod:`so3lib.exercises`
 (checkers for the notebooks' exercises).
 

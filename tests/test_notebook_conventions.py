@@ -1,0 +1,112 @@
+"""Every notebook is marked the way README's "One source, three editions" table says.
+
+The book, the decks, the student edition and the coursework are all built from
+notebooks/ by reading these marks, so a cell marked wrongly leaks an answer or loses an
+exercise in some edition. These tests read the committed notebooks only (fast, no
+kernel) and cover any notebook added later.
+"""
+
+import re
+
+import pytest
+
+from tools.common import course_notebooks, read
+
+NOTEBOOKS = course_notebooks()
+IDS = [p.stem for p in NOTEBOOKS]
+POINTS = re.compile(r"^points-([1-9][0-9]*)$")
+HIDDEN = ("notes", "solution", "hidden-test")
+
+
+def _tags(cell):
+    return set(cell.metadata.get("tags", []))
+
+
+def _slide_type(cell):
+    return cell.metadata.get("slideshow", {}).get("slide_type", "-")
+
+
+def _kind(cell):
+    """'notes', 'solution', 'hidden-test', 'answer', 'check', or None."""
+    if _slide_type(cell) == "notes":
+        return "notes"
+    for tag in ("solution", "hidden-test", "answer", "check"):
+        if tag in _tags(cell):
+            return tag
+    return None
+
+
+@pytest.fixture(scope="module", params=NOTEBOOKS, ids=IDS)
+def nb(request):
+    return read(request.param)
+
+
+def test_notes_solutions_and_hidden_tests_start_collapsed(nb):
+    open_cells = [i for i, c in enumerate(nb.cells)
+                  if _kind(c) in HIDDEN and not c.metadata.get("jupyter", {}).get("source_hidden")]
+    assert not open_cells, f"cells {open_cells} should carry jupyter.source_hidden: true"
+
+
+def test_speaker_notes_only_in_notes_cells(nb):
+    stray = [i for i, c in enumerate(nb.cells)
+             if _kind(c) != "notes" and c.source.lstrip().lower().startswith("speaker notes")]
+    assert not stray, f"cells {stray} read as speaker notes but are not slide_type 'notes'"
+
+
+def _exercises(nb):
+    """Yield (answer index, [cells up to the next answer]) for each exercise."""
+    starts = [i for i, c in enumerate(nb.cells) if _kind(c) == "answer"]
+    for k, i in enumerate(starts):
+        end = starts[k + 1] if k + 1 < len(starts) else len(nb.cells)
+        yield i, nb.cells[i:end]
+
+
+def test_each_exercise_has_answer_check_solution_hidden_test_in_order(nb):
+    for i, cells in _exercises(nb):
+        kinds = [_kind(c) for c in cells]
+        assert cells[0].cell_type == "code", f"answer cell {i} must be a code cell"
+        assert kinds[1] == "check", f"the cell after answer {i} must be its check cell"
+        points = [POINTS.match(t) for t in _tags(cells[1])]
+        assert sum(1 for m in points if m) == 1, f"check cell {i + 1} needs one points-N tag"
+        assert "solution" in kinds, f"exercise at cell {i} has no solution cells"
+        assert "hidden-test" in kinds, f"exercise at cell {i} has no hidden-test cell"
+        assert kinds.index("solution") < kinds.index("hidden-test"), (
+            f"exercise at cell {i}: the hidden test must run after the solution")
+        assert kinds.count("hidden-test") == 1, f"exercise at cell {i}: one hidden-test cell"
+
+
+def test_every_check_and_hidden_test_belongs_to_an_exercise(nb):
+    answers = [i for i, c in enumerate(nb.cells) if _kind(c) == "answer"]
+    first = answers[0] if answers else len(nb.cells)
+    orphans = [i for i, c in enumerate(nb.cells[:first]) if _kind(c) in ("check", "hidden-test")]
+    assert not orphans, f"cells {orphans} are check/hidden-test cells before any answer cell"
+
+
+def test_hidden_tests_are_silent_and_independent_of_the_checkers(nb):
+    for i, c in enumerate(nb.cells):
+        if _kind(c) != "hidden-test":
+            continue
+        assert c.cell_type == "code"
+        assert "so3lib.exercises" not in c.source, f"hidden test {i} must not use the checkers"
+        assert "assert" in c.source, f"hidden test {i} asserts nothing"
+        printed = c.get("outputs", [])
+        assert not printed, f"hidden test {i} prints; it should be silent when the answer is right"
+
+
+def test_every_figure_has_alt_text(nb):
+    missing = []
+    for i, c in enumerate(nb.cells):
+        if c.cell_type != "code":
+            continue
+        has_image = any("image/png" in o.get("data", {}) or "image/svg+xml" in o.get("data", {})
+                        for o in c.get("outputs", []))
+        alt = c.metadata.get("mystnb", {}).get("image", {}).get("alt", "")
+        if has_image and len(alt.split()) < 5:
+            missing.append(i)
+    assert not missing, f"figure cells {missing} need alt text (metadata.mystnb.image.alt)"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=IDS)
+def test_notebook_file_stays_small(path):
+    size = path.stat().st_size
+    assert size < 1.5e6, f"{path.name} is {size / 1e6:.2f} MB; keep each notebook under 1.5 MB"

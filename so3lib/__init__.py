@@ -9,6 +9,7 @@ True
 
 Modules: :mod:`so3lib.so3` (hat, vee, exp, log and friends), :mod:`so3lib.so2` (the
 plane and complex numbers), :mod:`so3lib.series` (the power series, for teaching),
+:mod:`so3lib.jacobians` (the Jacobians of exp, oplus and ominus),
 :mod:`so3lib.validation` (input checks and the rotation tolerance),
 :mod:`so3lib.measure` (errors in whole eps, for the notebooks' checks),
 :mod:`so3lib.plot` (figure helpers; imports matplotlib) and :mod:`so3lib.exercises`
@@ -20,6 +21,8 @@ S24-S28 in 03, S12-S23 in 04; S29 is the 50-digit reference in ``tests/reference
 """
 
 from . import so2
+from .jacobians import (C, D, left_jacobian, left_jacobian_inv, ominus, oplus,
+                        right_jacobian, right_jacobian_inv)
 from .series import A, B, exp_series
 from .so3 import angle, exp, hat, is_rotation, log, random_rotation, vee
 from .validation import ROTATION_TOL
@@ -29,4 +32,6 @@ __version__ = "0.1.0"
 __all__ = [
     "hat", "vee", "exp", "log", "angle", "is_rotation", "random_rotation",
     "exp_series", "A", "B", "so2", "ROTATION_TOL",
+    "right_jacobian", "left_jacobian", "right_jacobian_inv", "left_jacobian_inv",
+    "C", "D", "oplus", "ominus",
 ]

@@ -3,231 +3,268 @@ r"""Checkers for the exercises of notebook 05 (applications of exp and log).
 =========================  ===============================================================
 checker                    the exercise
 =========================  ===============================================================
-``check_interpolate``      5.1 ``interpolate(R0, R1, s) = R0 exp(s log(R0^T R1))``
-``check_euler_stretch``    5.2 the length of ``e_x`` after N Euler steps,
-                           ``(1 + dt^2 |omega|^2)^(N/2)``
-``check_angular_velocity`` 5.3 ``angular_velocity(R0, R1, dt) = log(R0^T R1) / dt``
+``check_keyframes``        5.1 ``keyframe_path(Rs, times, t)``: the orientation at time
+                           ``t`` on the path through keyframes ``Rs`` at ``times``, one
+                           geodesic (5.2) per segment
+``check_euler_stretch``    5.2 the length of ``e_x`` after 200 Euler steps (5.7)
+``check_velocity_jump``    5.3 ``velocity_jump(Rs, times)``: how much the body angular
+                           velocity jumps at the middle of three keyframes
 ``check_rotation_mean``    5.4 ``rotation_mean(Rs, weights)``, the weighted geodesic
                            (Karcher) mean of rotations
 =========================  ===============================================================
 
-Each checker returns a :class:`so3lib.exercises.Feedback` and never raises. Beyond
-"right" or "wrong" it recognises the usual mistakes (interpolating the entries, the
-relative rotation on the wrong side, forgetting ``dt``, the chordal mean) and says so.
+Each checker returns a :class:`so3lib.exercises.Feedback` and never raises. It tests the
+property that defines a right answer (the path passes through every keyframe and turns at
+a constant rate about one axis between two of them; the weighted attitude errors about
+the mean sum to zero), names the usual mistakes (the entrywise blend, one geodesic for the
+whole path, times taken as equally spaced, the relative rotation on the wrong side, the
+chordal mean) and never prints the expected answer. The graded answers live in the
+notebook's hidden tests, not here.
 """
 
 import numpy as np
 
 from ..so3 import exp, log
 from ..validation import rotation_defects
-from . import (_NOT_ANSWERED, Feedback, _compare, _fail, _fmt, _ok, check_function,
-               never_raises)
+from . import Feedback, never_raises
 
-__all__ = ["check_interpolate", "check_euler_stretch", "check_angular_velocity",
-           "check_rotation_mean", "interpolate_reference", "rotation_mean_reference"]
+__all__ = ["check_euler_stretch", "check_keyframes", "check_rotation_mean",
+           "check_velocity_jump"]
 
-
-# --- references ----------------------------------------------------------------------
-
-def interpolate_reference(R0, R1, s):
-    r"""The geodesic from ``R0`` to ``R1``: :math:`R(s) = R_0 \exp(s \log(R_0^T R_1))`."""
-    R0, R1 = np.asarray(R0, float), np.asarray(R1, float)
-    return R0 @ exp(log(R0.T @ R1), s)
+_NOT_ANSWERED = ("No answer yet: replace the `...` (or `None`) with your answer and run the "
+                 "cell again.")
 
 
-def rotation_mean_reference(Rs, weights=None, iterations=100, tol=1e-14):
-    r"""The weighted geodesic (Karcher) mean of rotations ``Rs`` (shape (N, 3, 3)).
-
-    Repeats :math:`\bar R \leftarrow \bar R \exp\big(\sum_i w_i \log(\bar R^T R_i)
-    / \sum_i w_i\big)` from ``Rs[0]`` until the step is below ``tol`` (notebook 05,
-    equation (5.9)); ``weights=None`` means equal weights.
-    """
-    Rs = np.asarray(Rs, float)
-    w = np.ones(len(Rs)) if weights is None else np.asarray(weights, float)
-    w = w / w.sum()
-    mean = Rs[0]
-    for _ in range(iterations):
-        step = np.einsum("i,ij->j", w, log(np.swapaxes(mean, -1, -2) @ Rs))
-        mean = mean @ exp(step)
-        if np.linalg.norm(step) < tol:
-            break
-    return mean
+def _ok(name, extra=""):
+    return Feedback(True, f"Correct: {name}.{(' ' + extra) if extra else ''}")
 
 
-def _chordal_mean(Rs, w=None):
-    """The (weighted) entrywise mean projected onto SO(3) by an SVD: close to, but not,
-    the geodesic mean."""
-    w = np.ones(len(Rs)) / len(Rs) if w is None else w
-    U, _, Vt = np.linalg.svd(np.einsum("i,ijk->jk", w, Rs))
-    D = np.diag([1.0, 1.0, np.sign(np.linalg.det(U @ Vt))])
-    return U @ D @ Vt
+def _fail(name, why, hint=None):
+    return Feedback(False, f"Not yet: {name}. {why}" + (f"\nHint: {hint}" if hint else ""))
 
 
-# --- the shared loop ------------------------------------------------------------------
+def _as_array(got, shape):
+    """(array, None) for a finite float array of ``shape``, else (None, the reason)."""
+    try:
+        arr = np.asarray(got, dtype=float)
+    except (TypeError, ValueError):
+        return None, f"The answer is a {type(got).__name__}, not a number or an array of numbers."
+    if arr.shape != shape:
+        return None, f"The answer has shape {arr.shape}; expected shape {shape}."
+    if not np.isfinite(arr).all():
+        return None, ("The answer contains NaN or inf. Look for a division by zero (a zero "
+                      "angle, a zero time step?).")
+    return arr, None
+
 
 def _not_a_rotation(M):
     """A sentence if ``M`` (finite, 3x3) is not a rotation, else None."""
     orth, det = rotation_defects(M)
     if orth > 1e-6 or abs(det - 1.0) > 1e-6:
-        return (f" It is not a rotation: for your matrix M, max|M^T M - I| = "
-                f"{float(orth):.2g} and det M = {float(det):.4g}.")
+        return (f"It is not a rotation: for your matrix M, max|M^T M - I| = {float(orth):.2g} "
+                f"and det M = {float(det):.4g}.")
     return None
 
 
 def _close(a, b, atol):
     with np.errstate(all="ignore"):
-        return np.shape(a) == np.shape(b) and np.allclose(a, b, atol=atol, rtol=0)
+        return np.shape(a) == np.shape(b) and bool(np.allclose(a, b, atol=atol, rtol=0))
 
 
-def _run_cases(func, reference, cases, name, atol, diagnose, hint):
-    """:func:`check_function` with labelled cases, absolute tolerance ``atol`` and the
-    diagnosis of this notebook's usual mistakes."""
-    return check_function(func, reference, cases, name, atol=atol, rtol=0.0, hint=hint,
-                          diagnose=diagnose, reference_name="the reference")
+def _run(func, cases, name, shape, judge, hint):
+    """Call ``func`` on each ``(label, args)`` case; ``judge(got, args)`` returns None when
+    the result has the defining property, else a sentence saying what is wrong."""
+    if func is None or func is Ellipsis:
+        return _fail(name, _NOT_ANSWERED)
+    if not callable(func):
+        return _fail(name, f"Expected a function, got a {type(func).__name__}.")
+    for label, args in cases:
+        try:
+            got = func(*[np.array(a, copy=True) if isinstance(a, np.ndarray) else a
+                         for a in args])
+        except NotImplementedError:
+            return _fail(name, "Not written yet: the function still raises NotImplementedError.")
+        except Exception as err:  # noqa: BLE001 -- a checker never raises
+            return _fail(name, f"Calling it on {label} raised {type(err).__name__}: {err}", hint)
+        if got is None:
+            return _fail(name, f"It returned None on {label}: is the `return` missing?")
+        arr, why = _as_array(got, shape)
+        if why is None:
+            try:
+                why = judge(arr, args)
+            except Exception as err:  # noqa: BLE001 -- a checker never raises
+                why = f"The result could not be checked ({type(err).__name__}: {err})."
+        if why:
+            return _fail(name, f"On {label}: {why}", hint)
+    return _ok(name, f"It has the defining property on {len(cases)} test inputs.")
 
 
-# --- 5.1 interpolation ----------------------------------------------------------------
+# --- 5.1 a path through keyframes ------------------------------------------------------
 
-def _interpolation_cases():
-    Rz = exp([0.0, 0.0, np.pi / 2])                      # a quarter turn about z
-    R0 = exp([0.3, -0.5, 0.2])
-    R1 = exp([-0.4, 0.9, 1.1])
-    R2 = exp([1.0, 1.0, -0.5])
+def _keyframe_cases():
+    Rz = exp([0.0, 0.0, np.pi / 2])
+    Rzx = Rz @ exp([np.pi / 2, 0.0, 0.0])
+    three = np.stack([np.eye(3), Rz, Rzx])
+    gen = np.stack([exp([0.3, -0.5, 0.2]), exp([-0.4, 0.9, 1.1]), exp([1.0, 0.6, -0.5]),
+                    exp([0.2, 0.1, 0.3])])
+    uneven = np.array([0.0, 1.0, 3.0])
     return [
-        ("R0 = I, R1 = a quarter turn about z and s = 0.5", (np.eye(3), Rz, 0.5)),
-        ("s = 0 (the path must start at R0)", (R0, R1, 0.0)),
-        ("s = 1 (the path must end at R1)", (R0, R1, 1.0)),
-        ("two general rotations and s = 0.3", (R0, R1, 0.3)),
-        ("two other rotations and s = 0.8", (R2, R0, 0.8)),
+        ("three quarter-turn keyframes at times (0, 1, 2), t = 0.5",
+         (three, np.array([0.0, 1.0, 2.0]), 0.5)),
+        ("the same keyframes, t = 1 (the middle keyframe)", (three, np.array([0.0, 1.0, 2.0]), 1.0)),
+        ("the same keyframes, t = 1.5", (three, np.array([0.0, 1.0, 2.0]), 1.5)),
+        ("the same keyframes at uneven times (0, 1, 3), t = 2", (three, uneven, 2.0)),
+        ("the same keyframes at uneven times (0, 1, 3), t = 3 (the last keyframe)",
+         (three, uneven, 3.0)),
+        ("four general keyframes at times (0, 0.5, 2, 2.5), t = 0", (gen, np.array([0.0, 0.5, 2.0, 2.5]), 0.0)),
+        ("four general keyframes at times (0, 0.5, 2, 2.5), t = 1.1",
+         (gen, np.array([0.0, 0.5, 2.0, 2.5]), 1.1)),
+        ("four general keyframes at times (0, 0.5, 2, 2.5), t = 2.3",
+         (gen, np.array([0.0, 0.5, 2.0, 2.5]), 2.3)),
     ]
 
 
-def _diagnose_interpolate(got, args):
-    R0, R1, s = args
-    R0, R1 = np.asarray(R0, float), np.asarray(R1, float)
-    if _close(got, (1 - s) * R0 + s * R1, 1e-8):
-        return (" This is the entrywise blend (1 - s) R0 + s R1: it leaves SO(3). Move along "
-                "the rotation instead: R0 exp(s log(R0^T R1)).")
+def _segment(times, t):
+    """Index i of the segment [times[i], times[i+1]] that holds t, and the fraction u."""
+    i = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
+    return i, (t - times[i]) / (times[i + 1] - times[i])
+
+
+def _judge_keyframes(got, args):
+    Rs, times, t = args
+    i, u = _segment(times, t)
+    Ra, Rb = Rs[i], Rs[i + 1]
+    if _close(got, (1 - u) * Ra + u * Rb, 1e-8) and not _close(got, Ra, 1e-8) \
+            and not _close(got, Rb, 1e-8):
+        return ("this is the entrywise blend (1 - u) R_i + u R_(i+1): it leaves SO(3). Move "
+                "along the rotation between the two keyframes instead.")
     bad = _not_a_rotation(got)
     if bad:
-        return bad + " Every R(s) on the path should be a rotation."
-    if _close(got, exp(log(R0.T @ R1), s) @ R0, 1e-8):
-        return (" You multiplied R0 on the right. log(R0^T R1) is measured in R0's own "
-                "frame, so R0 goes on the left: R0 exp(s log(R0^T R1)).")
-    if _close(got, R0 @ exp(log(R1 @ R0.T), s), 1e-8):
-        return (" You used log(R1 R0^T), the step measured in the fixed frame; with R0 on "
-                "the left the step must be log(R0^T R1).")
-    if _close(got, R0 @ exp(log(R0.T @ R1), 1 - s), 1e-8):
-        return " It runs backwards: at s = 0 the path must be at R0."
-    return None
+        return bad + " Every point of the path must be a rotation."
+    step = log(Ra.T @ Rb)                              # the segment's rotation vector
+    if _close(log(Ra.T @ got), u * step, 1e-9):
+        return None
+    T = times[-1] - times[0]
+    if _close(got, Rs[0] @ exp(log(Rs[0].T @ Rs[-1]), (t - times[0]) / T), 1e-8):
+        return ("this is one geodesic from the first keyframe to the last: it misses the "
+                "keyframes in between. Find the segment [t_i, t_(i+1)] that holds t first.")
+    k = len(times) - 1
+    s = (t - times[0]) / T * k                         # as if the keyframes were equally spaced
+    j = int(np.clip(np.floor(s), 0, k - 1))
+    if _close(got, Rs[j] @ exp(log(Rs[j].T @ Rs[j + 1]), s - j), 1e-8):
+        return ("your path treats the keyframes as equally spaced in time. Here they are "
+                "not: use the fraction (t - t_i) / (t_(i+1) - t_i) of the segment that "
+                "holds t.")
+    if _close(got, exp(step, u) @ Ra, 1e-8):
+        return ("you multiplied R_i on the right. log(R_i^T R_(i+1)) is the step seen from "
+                "the body at R_i, so R_i goes on the left.")
+    if _close(got, Ra @ exp(step, 1 - u), 1e-8):
+        return "the segment runs backwards: at t = t_i the path must be at R_i."
+    if _close(got, Ra, 1e-8) or _close(got, Rb, 1e-8):
+        return ("your path jumps from keyframe to keyframe instead of turning between "
+                "them.")
+    if u in (0.0, 1.0):
+        return "at a keyframe's time the path must be exactly at that keyframe."
+    off = float(np.linalg.norm(log(got.T @ (Ra @ exp(step, u)))))
+    return (f"your R(t) is {off:.2g} rad away from the point a fraction u = "
+            f"(t - t_i)/(t_(i+1) - t_i) of the way along the geodesic of that segment.")
 
 
-def check_interpolate(func):
-    """Exercise 5.1: ``interpolate(R0, R1, s)`` returns ``R0 exp(s log(R0^T R1))``."""
-    return _run_cases(func, interpolate_reference, _interpolation_cases(), "interpolate",
-                      1e-9, _diagnose_interpolate,
-                      "R0^T R1 takes R0 to R1; take its log, scale it by s, exponentiate, "
-                      "and multiply R0 on the left.")
+def check_keyframes(func):
+    """Exercise 5.1: ``keyframe_path(Rs, times, t)`` lies on the geodesic (5.2) of the
+    segment that holds ``t``, a fraction ``(t - t_i)/(t_(i+1) - t_i)`` of the way."""
+    return _run(func, _keyframe_cases(), "keyframe_path", (3, 3), _judge_keyframes,
+                "Find i with t_i <= t <= t_(i+1) (np.searchsorted helps), the fraction u of "
+                "that segment, and use (5.2) between R_i and R_(i+1).")
 
 
 # --- 5.2 Euler's stretch factor -------------------------------------------------------
 
-#: The numbers of exercise 5.2.
-EULER_OMEGA = np.array([0.0, 0.0, 2.0])     # rad/s
-EULER_DT = 0.05                              # s
-EULER_STEPS = 200
+_EULER = {"omega": (0.0, 0.0, 2.0), "dt": 0.05, "steps": 200}
 
 
 @never_raises("the length of R_N e_x after 200 Euler steps")
 def check_euler_stretch(answer):
-    r"""Exercise 5.2: the length of :math:`R_N e_x` after N Euler steps from ``I``.
-
-    With :math:`\omega = (0, 0, 2)` rad/s, ``dt = 0.05`` s and ``N = 200``, each step
-    multiplies the length of a vector perpendicular to :math:`\omega` by
-    :math:`\sqrt{1 + dt^2\lVert\omega\rVert^2}`, so the answer is
-    :math:`1.01^{100} \approx 2.7048`.
-    """
+    r"""Exercise 5.2: the length of :math:`R_N e_x` after N = 200 Euler steps (5.7) from
+    ``I``, with :math:`\omega = (0, 0, 2)` rad/s and ``dt = 0.05`` s."""
     name = "the length of R_N e_x after 200 Euler steps"
+    hint = ("One Euler step multiplies a vector perpendicular to omega by "
+            "(I + dt hat(omega)); find the length of that product (Pythagoras), then repeat.")
     if answer is None or answer is Ellipsis:
         return _fail(name, _NOT_ANSWERED)
-    w, dt, N = float(np.linalg.norm(EULER_OMEGA)), EULER_DT, EULER_STEPS
-    expected = (1.0 + (dt * w) ** 2) ** (N / 2)
-    hint = ("One Euler step multiplies a vector perpendicular to omega by "
-            "(I + dt hat(omega)); compute the length of that product (Pythagoras), "
-            "then repeat it N times.")
-    result = _compare(answer, expected, name, 1e-6, 1e-6, None)
-    if result is None:
-        return _fail(name, _NOT_ANSWERED)
-    if result is True:
-        return _ok(name, "The body has grown to 2.7 times its size: Euler steps are "
-                         "not rotations.")
-    try:
-        got = float(np.asarray(answer, dtype=float).reshape(()))
-    except (TypeError, ValueError):
-        got = None
-    extra = ""
-    if got is not None and np.isfinite(got):
-        if np.isclose(got, 1.0):
-            extra = (" A rotation would keep the length 1, but I + dt hat(omega) is "
-                     "not a rotation.")
-        elif np.isclose(got, (1 + (dt * w) ** 2) ** N, rtol=1e-4):
-            extra = (" That is the squared length: the length grows by the square "
-                     "root of 1 + dt^2 |omega|^2 per step.")
-        elif np.isclose(got, (1 + dt * w) ** N, rtol=1e-4) or \
-                np.isclose(got, (1 + dt * w) ** (N / 2), rtol=1e-4):
-            extra = (" dt hat(omega) e_x is perpendicular to e_x, so the lengths add "
-                     "like the sides of a right triangle, not along a line.")
-        elif np.isclose(got, np.sqrt(1 + (dt * w) ** 2), rtol=1e-6):
-            extra = " That is one step; the question asks for N = 200 steps."
-    return Feedback(False, result.message + extra + f"\nHint: {hint}")
+    got, why = _as_array(answer, ())
+    if why:
+        return _fail(name, why, hint)
+    got = float(got)
+    w, dt, N = np.linalg.norm(_EULER["omega"]), _EULER["dt"], _EULER["steps"]
+    step = np.eye(3) + dt * np.array([[0.0, -w, 0.0], [w, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    length = float(np.linalg.norm(np.linalg.matrix_power(step, N)[:, 0]))   # the definition
+    if np.isclose(got, length, rtol=1e-6, atol=0):
+        return _ok(name, "The body has grown almost threefold: Euler steps are not rotations.")
+    one = float(np.hypot(1.0, dt * w))
+    if np.isclose(got, 1.0):
+        why = "A rotation would keep the length 1, but I + dt hat(omega) is not a rotation."
+    elif np.isclose(got, length ** 2, rtol=1e-4):
+        why = "That is the squared length."
+    elif np.isclose(got, (1 + dt * w) ** N, rtol=1e-4) or \
+            np.isclose(got, (1 + dt * w) ** (N / 2), rtol=1e-4):
+        why = ("dt hat(omega) e_x is perpendicular to e_x, so the lengths add like the sides "
+               "of a right triangle, not along a line.")
+    elif np.isclose(got, one, rtol=1e-6):
+        why = "That is one step; the question asks for 200 steps."
+    else:
+        why = "That is not the length after 200 Euler steps."
+    return _fail(name, why, hint)
 
 
-# --- 5.3 angular velocity from two orientations ---------------------------------------
+# --- 5.3 the jump of the angular velocity at a keyframe ----------------------------------
 
-def _angular_velocity_reference(R0, R1, dt):
-    return log(np.asarray(R0, float).T @ np.asarray(R1, float), dt)
-
-
-def _velocity_cases():
-    R0 = exp([0.3, -0.5, 0.2])
-    w = np.array([0.4, -1.5, 2.0])
+def _jump_cases():
+    Rz = exp([0.0, 0.0, np.pi / 2])
+    R0, R1 = exp([0.3, -0.5, 0.2]), exp([-0.4, 0.9, 1.1])
     return [
-        ("a quarter turn about z in 1 s from R0 = I",
-         (np.eye(3), exp([0.0, 0.0, np.pi / 2]), 1.0)),
-        ("a general R0, omega = (0.4, -1.5, 2.0) rad/s and dt = 0.1 s",
-         (R0, R0 @ exp(w, 0.1), 0.1)),
-        ("a general R0, omega = (0.4, -1.5, 2.0) rad/s and dt = 0.5 s",
-         (R0, R0 @ exp(w, 0.5), 0.5)),
-        ("no motion (R1 = R0) and dt = 0.01 s", (R0, R0.copy(), 0.01)),
+        (("keyframes I, a quarter turn about z, then a quarter turn about the body's x, "
+          "at times (0, 1, 2)"),
+         (np.stack([np.eye(3), Rz, Rz @ exp([np.pi / 2, 0.0, 0.0])]), np.array([0.0, 1.0, 2.0]))),
+        ("one axis, 0.5 rad in 1 s and then 0.5 rad in 2 s",
+         (np.stack([np.eye(3), exp([0.0, 0.0, 0.5]), exp([0.0, 0.0, 1.0])]),
+          np.array([0.0, 1.0, 3.0]))),
+        ("three general keyframes at times (0, 0.4, 1.5)",
+         (np.stack([R0, R1, R1 @ exp([0.7, 0.2, -0.6])]), np.array([0.0, 0.4, 1.5]))),
+        ("a steady spin (no jump) at times (1, 2, 3)",
+         (np.stack([R0, R0 @ exp([0.2, 0.4, -0.1]), R0 @ exp([0.4, 0.8, -0.2])]),
+          np.array([1.0, 2.0, 3.0]))),
     ]
 
 
-def _diagnose_velocity(got, args):
-    R0, R1, dt = args
-    R0, R1 = np.asarray(R0, float), np.asarray(R1, float)
-    if _close(got, log(R1 @ R0.T, dt), 1e-8):
-        return (" This is log(R1 R0^T)/dt, the angular velocity in the fixed (world) "
-                "frame, R0 omega. The exercise asks for the body frame: log(R0^T R1)/dt.")
-    if _close(got, log(R0.T @ R1), 1e-8):
-        return " It is the rotation vector of the step: divide by dt to get a velocity."
-    if _close(got, dt * log(R0.T @ R1), 1e-8):
-        return " You multiplied by dt: the velocity is the rotation vector divided by dt."
-    approx = R0.T @ (R1 - R0) / dt
-    if _close(got, np.array([approx[2, 1], approx[0, 2], approx[1, 0]]), 1e-8) or \
-            _close(got, 0.5 * np.array([approx[2, 1] - approx[1, 2],
-                                        approx[0, 2] - approx[2, 0],
-                                        approx[1, 0] - approx[0, 1]]), 1e-8):
-        return (" This is the finite difference vee(R0^T (R1 - R0))/dt: only a first-order "
-                "approximation, wrong by a lot when the step turns far. Use the log.")
-    return None
+def _judge_jump(got, args):
+    Rs, times = args
+    d1, d2 = times[1] - times[0], times[2] - times[1]
+    before = log(Rs[0].T @ Rs[1]) / d1                # body angular velocity on segment 1
+    after = log(Rs[1].T @ Rs[2]) / d2                 # ... and on segment 2
+    if _close(got, after - before, 1e-9):
+        return None
+    if np.any(np.abs(after - before) > 1e-9) and _close(got, before - after, 1e-9):
+        return "it is off by a sign: the jump is (velocity after) - (velocity before)."
+    if _close(got, Rs[1] @ (after - before), 1e-9):
+        return ("this is the jump seen from the world frame (R_1 times the body-frame jump). "
+                "The exercise asks for the body frame at the middle keyframe.")
+    if _close(got, log(Rs[1].T @ Rs[2]) - log(Rs[0].T @ Rs[1]), 1e-9):
+        return ("this is the change of the rotation vectors of the steps; a velocity is a "
+                "rotation vector divided by the time the step takes, and the two segments "
+                "take different times.")
+    if _close(got, log(Rs[0].T @ Rs[2]) / (times[2] - times[0]) - before, 1e-9):
+        return "the second segment runs from the middle keyframe to the last, not from the first."
+    return ("that is not the difference of the body angular velocities of the two "
+            "segments.")
 
 
-def check_angular_velocity(func):
-    """Exercise 5.3: ``angular_velocity(R0, R1, dt)`` returns ``log(R0^T R1) / dt``."""
-    return _run_cases(func, _angular_velocity_reference, _velocity_cases(),
-                      "angular_velocity", 1e-9, _diagnose_velocity,
-                      "R0^T R1 is the step seen from the body; its log is the rotation "
-                      "vector of the step, and a velocity is that divided by the time.")
+def check_velocity_jump(func):
+    """Exercise 5.3: ``velocity_jump(Rs, times)``, the body angular velocity of the second
+    segment minus that of the first, for three keyframes joined by geodesics."""
+    return _run(func, _jump_cases(), "velocity_jump", (3,), _judge_jump,
+                "On each segment the path of 5.1 spins at one constant body angular velocity: "
+                "the rotation vector of the step divided by the time the step takes.")
 
 
 # --- 5.4 the weighted mean of rotations -----------------------------------------------
@@ -238,41 +275,41 @@ def _mean_cases():
     spread = exp(0.6 * rng.standard_normal((6, 3)))
     two = np.stack([c @ exp([0.0, 0.0, 0.4]), c @ exp([0.0, 0.0, -0.4])])
     return [
-        ("two turns of +-0.4 rad about z around a centre C, equal weights (the mean is C)",
-         (two, np.array([1.0, 1.0]))),
-        ("the same two turns with weights (1, 3) (the mean is C exp(-0.2 rad about z))",
-         (two, np.array([1.0, 3.0]))),
-        ("six rotations spread about 0.6 rad around I, weights 1..6",
-         (spread, np.arange(1.0, 7.0))),
+        ("two turns of +-0.4 rad about z around a centre C, equal weights", (two, np.array([1.0, 1.0]))),
+        ("the same two turns with weights (1, 3)", (two, np.array([1.0, 3.0]))),
+        ("six rotations spread about 0.6 rad around I, weights 1..6", (spread, np.arange(1.0, 7.0))),
         ("the same six rotations turned by C, weights 0.1, 0.2, 0.3, 0.4, 0.5, 0.5",
          (c @ spread, np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.5]))),
     ]
 
 
-def _diagnose_mean(got, args):
+def _judge_mean(got, args):
     Rs, weights = args
-    Rs, w = np.asarray(Rs, float), np.asarray(weights, float) / np.sum(weights)
+    w = np.asarray(weights, float) / np.sum(weights)
     if _close(got, np.einsum("i,ijk->jk", w, Rs), 1e-8) or _close(got, Rs.mean(axis=0), 1e-8):
-        return (" This is an entrywise mean of the matrices: it is not a rotation "
-                "(averaging the entries shrinks the matrix, as the blend (5.4) does).")
+        return ("this is an entrywise mean of the matrices: it is not a rotation (averaging "
+                "the entries shrinks the matrix, as the blend (5.4) does).")
     bad = _not_a_rotation(got)
     if bad:
         return bad
-    if not np.allclose(w, w[0]) and _close(got, rotation_mean_reference(Rs), 1e-8):
-        return " This is the unweighted mean: the weights were ignored."
-    if _close(got, _chordal_mean(Rs, w), 1e-8):
-        return (" This is the chordal mean (the weighted entrywise mean projected onto "
-                "SO(3)). It is close, but the exercise asks for the geodesic mean, where the "
-                "weighted attitude errors Log(R_bar^T R_i) sum to zero.")
-    step = np.einsum("i,ij->j", w, log(got.T @ Rs))
-    return (f" At your answer R_bar the weighted mean attitude error "
-            f"sum_i w_i Log(R_bar^T R_i) / sum_i w_i is {_fmt(step)}, not zero: iterate (5.9) until it is below 1e-12 "
-            f"(and divide by the sum of the weights, or the steps overshoot).")
+    residual = float(np.linalg.norm(w @ log(got.T @ Rs)))    # the defining property: 0
+    if residual < 1e-9:
+        return None
+    if not np.allclose(w, w[0]) and np.linalg.norm(log(got.T @ Rs).mean(axis=0)) < 1e-9:
+        return "this is the unweighted mean: the weights were ignored."
+    U, _, Vt = np.linalg.svd(np.einsum("i,ijk->jk", w, Rs))
+    if _close(got, U @ np.diag([1.0, 1.0, np.linalg.det(U @ Vt)]) @ Vt, 1e-8):
+        return ("this is the chordal mean (the weighted entrywise mean moved to the nearest "
+                "rotation). It is close, but the exercise asks for the geodesic mean, where "
+                "the weighted attitude errors Log(R_bar^T R_i) sum to zero.")
+    return (f"at your R_bar the weighted mean attitude error sum_i w_i Log(R_bar^T R_i) / "
+            f"sum_i w_i has length {residual:.2g} rad, not zero: iterate (5.9) until the step "
+            f"is below 1e-12 (and divide by the sum of the weights, or the steps overshoot).")
 
 
 def check_rotation_mean(func):
-    """Exercise 5.4: ``rotation_mean(Rs, weights)`` returns the weighted geodesic mean."""
-    return _run_cases(func, rotation_mean_reference, _mean_cases(), "rotation_mean", 1e-8,
-                      _diagnose_mean,
-                      "Start from R_bar = Rs[0]; repeat: step = sum_i w_i Log(R_bar^T R_i) / "
-                      "sum_i w_i, R_bar = R_bar exp(step), until |step| < 1e-12.")
+    """Exercise 5.4: ``rotation_mean(Rs, weights)`` is a rotation at which the weighted
+    attitude errors ``Log(R_bar^T R_i)`` sum to zero."""
+    return _run(func, _mean_cases(), "rotation_mean", (3, 3), _judge_mean,
+                "Start from R_bar = Rs[0]; repeat: step = sum_i w_i Log(R_bar^T R_i) / sum_i w_i, "
+                "R_bar = R_bar exp(step), until |step| < 1e-12.")

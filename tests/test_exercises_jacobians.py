@@ -11,9 +11,9 @@ from checker_support import not_written, says_for
 import so3lib.exercises.jacobians as ex
 from so3lib import exp, hat, left_jacobian, right_jacobian
 from so3lib.exercises.jacobians import (
+    check_body_jacobian,
     check_C_stable,
     check_right_jacobian,
-    check_wahba_jacobian,
 )
 
 
@@ -31,7 +31,7 @@ def c_stable(t):
 
 CHECKERS = [(check_right_jacobian, "right_jacobian_formula"),
             (check_C_stable, "C_stable"),
-            (check_wahba_jacobian, "wahba_jacobian")]
+            (check_body_jacobian, "body_jacobian")]
 
 
 @pytest.mark.parametrize("checker, name", CHECKERS)
@@ -49,7 +49,7 @@ def test_right_answers_pass():
     assert check_right_jacobian(right_jacobian)
     assert check_C_stable(c_stable)
     assert check_C_stable(lambda t: float(so3lib_C(t)))
-    assert check_wahba_jacobian(lambda phi, a: -exp(phi) @ hat(a) @ right_jacobian(phi))
+    assert check_body_jacobian(lambda phi, b: hat(exp(phi).T @ b) @ right_jacobian(phi))
 
 
 def so3lib_C(t):
@@ -82,13 +82,14 @@ def test_C_stable_mistakes(answer, pattern):
 
 
 @pytest.mark.parametrize("answer, pattern", [
-    (lambda p, a: -exp(p) @ hat(a), "J_r.phi. is missing"),
-    (lambda p, a: exp(p) @ hat(a) @ right_jacobian(p), "off by a sign"),
-    (lambda p, a: -exp(p) @ hat(a) @ left_jacobian(p), "uses J_l"),
-    (lambda p, a: -exp(p) @ right_jacobian(p) @ hat(a), "wrong order"),
+    (lambda p, b: hat(exp(p).T @ b), "J_r.phi. is missing"),
+    (lambda p, b: -hat(exp(p).T @ b) @ right_jacobian(p), "off by a sign"),
+    (lambda p, b: hat(exp(p).T @ b) @ left_jacobian(p), "uses J_l"),
+    (lambda p, b: right_jacobian(p) @ hat(exp(p).T @ b), "wrong order"),
+    (lambda p, b: hat(exp(p) @ b) @ right_jacobian(p), "exp.phi.\\^T b .the body"),
 ])
-def test_wahba_mistakes(answer, pattern):
-    says_for(check_wahba_jacobian(answer), "wahba_jacobian", pattern)
+def test_body_jacobian_mistakes(answer, pattern):
+    says_for(check_body_jacobian(answer), "body_jacobian", pattern)
 
 
 def test_messages_never_show_the_expected_value():
@@ -98,12 +99,12 @@ def test_messages_never_show_the_expected_value():
                             separator=", ")
     fb = check_right_jacobian(lambda p: np.eye(3))
     assert right not in repr(fb) and "expected" not in repr(fb).lower()
-    fb = check_wahba_jacobian(lambda p, a: -exp(p) @ hat(a))
+    fb = check_body_jacobian(lambda p, b: hat(exp(p).T @ b))
     assert "expected" not in repr(fb).lower()
 
 
 def test_module_exposes_no_answer():
-    assert sorted(ex.__all__) == ["check_C_stable", "check_right_jacobian",
-                                  "check_wahba_jacobian"]
+    assert sorted(ex.__all__) == ["check_C_stable", "check_body_jacobian",
+                                  "check_right_jacobian"]
     public = [n for n in dir(ex) if not n.startswith("_") and callable(getattr(ex, n))]
     assert set(public) <= set(ex.__all__) | {"Feedback", "exp", "hat", "never_raises", "math"}

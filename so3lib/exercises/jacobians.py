@@ -7,8 +7,8 @@ checker                     the exercise
                             the closed form, for :math:`\varphi \ne 0`
 ``check_C_stable``          6.2 ``C_stable(t)``, :math:`(t - \sin t)/t^3` to 1e-12
                             relative at every ``t``, 0 included
-``check_wahba_jacobian``    6.3 ``wahba_jacobian(phi, a)``, the 3x3 derivative of
-                            :math:`e^{\hat\varphi} a` with respect to :math:`\varphi`
+``check_body_jacobian``     6.3 ``body_jacobian(phi, b)``, the 3x3 derivative of
+                            :math:`e^{-\hat\varphi} b` with respect to :math:`\varphi`
 ==========================  ==============================================================
 
 Each checker returns a :class:`so3lib.exercises.Feedback` and never raises. The function
@@ -26,7 +26,7 @@ from ..jacobians import C as _C_lib
 from ..so3 import exp, hat
 from . import _NOT_ANSWERED, Feedback, _fail, _fmt, _ok, never_raises
 
-__all__ = ["check_C_stable", "check_right_jacobian", "check_wahba_jacobian"]
+__all__ = ["check_C_stable", "check_body_jacobian", "check_right_jacobian"]
 
 _H = 1e-5           # step of the centred differences: truncation ~h^2, rounding ~eps/h
 
@@ -44,12 +44,6 @@ def _fd_jacobian(phi, side):
         dR = (exp(phi + _H * e) - exp(phi - _H * e)) / (2 * _H)
         cols.append(_vee(R.T @ dR if side == "right" else dR @ R.T))
     return np.column_stack(cols)
-
-
-def _fd_image(phi, a):
-    """Columns: d/dphi_j of exp(phi) a, by centred differences."""
-    return np.column_stack([(exp(phi + _H * e) @ a - exp(phi - _H * e) @ a) / (2 * _H)
-                            for e in np.eye(3)])
 
 
 def _call(func, name, args, shown, shape):
@@ -200,54 +194,64 @@ def check_C_stable(func):
                  "(t - sin t)/t^3 above it; check how many terms your threshold needs.")
 
 
-# --- 6.3 the Jacobian of Wahba's residual ---------------------------------------------
+# --- 6.3 the Jacobian of the residual in the body frame --------------------------------
 
 def _cases_63():
-    a = np.array([1.0, -2.0, 0.5])
+    b = np.array([1.0, -2.0, 0.5])
     return [
-        ("phi = 0 and a = (1, -2, 0.5)", (np.zeros(3), a)),
-        ("phi = (0.3, -0.4, 1.2) and a = (1, -2, 0.5)", (np.array([0.3, -0.4, 1.2]), a)),
-        ("phi = (2, -1, 2) and a = (0, 1, 1)", (np.array([2.0, -1.0, 2.0]),
+        ("phi = 0 and b = (1, -2, 0.5)", (np.zeros(3), b)),
+        ("phi = (0.3, -0.4, 1.2) and b = (1, -2, 0.5)", (np.array([0.3, -0.4, 1.2]), b)),
+        ("phi = (2, -1, 2) and b = (0, 1, 1)", (np.array([2.0, -1.0, 2.0]),
                                                np.array([0.0, 1.0, 1.0]))),
     ]
 
 
-def _diagnose_63(got, phi, a):
-    R, A = exp(phi), hat(a)
+def _fd_body(phi, b):
+    """Columns: d/dphi_j of exp(phi)^T b, by centred differences."""
+    return np.column_stack([(exp(phi + _H * e).T @ b - exp(phi - _H * e).T @ b) / (2 * _H)
+                            for e in np.eye(3)])
+
+
+def _diagnose_63(got, phi, b):
+    v = hat(exp(phi).T @ b)
     jr = _fd_jacobian(phi, "right")
-    if _close(got, -R @ A, 1e-7):
-        return ("It is -exp(phi) hat(a): J_r(phi) is missing. exp(phi + delta) is not "
-                "exp(phi) exp(delta); it is exp(phi) exp(J_r(phi) delta).")
-    if _close(got, R @ A @ jr, 1e-7):
-        return "It is off by a sign: exp(hat(v)) a = a + v x a = a - a x v = a - hat(a) v."
-    if _close(got, -R @ A @ jr.T, 1e-7):
+    if _close(got, v, 1e-7) and not _close(v, v @ jr, 1e-7):
+        return ("It is hat(exp(phi)^T b) alone: J_r(phi) is missing. exp(phi + delta) is "
+                "not exp(phi) exp(delta); it is exp(phi) exp(J_r(phi) delta).")
+    if _close(got, -v @ jr, 1e-7):
+        return ("It is off by a sign: exp(-hat(u)) c = c - u x c = c + c x u "
+                "= c + hat(c) u.")
+    if _close(got, v @ jr.T, 1e-7):
         return "It uses J_l = J_r^T where the perturbation is on the right: J_r belongs here."
-    if _close(got, -R @ jr @ A, 1e-7) or _close(got, -jr @ R @ A, 1e-7):
-        return "The factors are in the wrong order: -exp(phi) hat(a) J_r(phi)."
+    if _close(got, jr @ v, 1e-7):
+        return "The factors are in the wrong order: hat(exp(phi)^T b) J_r(phi)."
+    if _close(got, hat(exp(phi) @ b) @ jr, 1e-7):
+        return "That uses exp(phi) b; the residual has exp(phi)^T b (the body frame)."
     return None
 
 
-@never_raises("wahba_jacobian")
-def check_wahba_jacobian(func):
-    r"""Exercise 6.3: ``wahba_jacobian(phi, a)`` is :math:`\partial(e^{\hat\varphi}a)/
-    \partial\varphi`, checked against a centred difference of ``exp`` (within 1e-7)."""
-    name = "wahba_jacobian"
+@never_raises("body_jacobian")
+def check_body_jacobian(func):
+    r"""Exercise 6.3: ``body_jacobian(phi, b)`` is :math:`\partial(e^{-\hat\varphi}b)/
+    \partial\varphi`, the derivative of the measured direction ``b`` seen in the body
+    frame, checked against a centred difference of ``exp`` (within 1e-7)."""
+    name = "body_jacobian"
     fb = _start(func, name)
     if fb is not None:
         return fb
     cases = _cases_63()
-    for shown, (phi, a) in cases:
-        got, fb = _call(func, name, (phi, a), shown, (3, 3))
+    for shown, (phi, b) in cases:
+        got, fb = _call(func, name, (phi, b), shown, (3, 3))
         if fb is not None:
             return fb
-        ref = _fd_image(phi, a)
+        ref = _fd_body(phi, b)
         if not _close(got, ref, 1e-7):
             diff = float(np.abs(got - ref).max())
             why = (f"On {shown} it differs from the finite-difference derivative of "
-                   f"exp(phi) a by up to {diff:.2g}; your result is {_fmt(got)}.")
-            extra = _diagnose_63(got, phi, a)
+                   f"exp(phi)^T b by up to {diff:.2g}; your result is {_fmt(got)}.")
+            extra = _diagnose_63(got, phi, b)
             return Feedback(False, f"Not yet: {name}. {why}" + (f" {extra}" if extra else "")
-                            + "\nHint: exp(phi + delta) a ~ exp(phi) exp(J_r delta) a "
-                              "~ exp(phi) (a + (J_r delta) x a).")
-    return _ok(name, f"It matches the derivative of exp(phi) a by finite differences on "
+                            + "\nHint: exp(phi + delta)^T ~ exp(J_r delta)^T exp(phi)^T "
+                              "= exp(-J_r delta) exp(phi)^T; expand to first order.")
+    return _ok(name, f"It matches the derivative of exp(phi)^T b by finite differences on "
                      f"{len(cases)} cases.")

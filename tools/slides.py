@@ -4,15 +4,33 @@ Each cell's slideshow metadata decides where it goes: "slide" starts a new slide
 "subslide" a new slide below it (down arrow), "fragment" appears on the next key press,
 "skip" leaves the cell out, "notes" goes to the speaker view (press S), "-" continues
 the current slide. A code cell tagged "hide-input" shows only its output (a figure
-without the code that draws it). reveal.js, MathJax, jQuery and require.js are unpacked into
-build/slides/vendor/ from the npm registry (tools/vendor.py), so the decks load nothing
-from the network: copy the whole build/slides/ folder to the lecture-hall machine and
-open NN_name.slides.html in a browser.
+without the code that draws it); a figure's alt text is its cell's
+metadata.mystnb.image.alt. Cells tagged "solution", "hidden-test", "answer" or "check"
+are left out: an exercise slide shows the task and how it is checked. `--solutions`
+(`make slides-solutions`) builds the decks with the worked solutions, for after the
+deadline, into build/slides-solutions/. `--handouts` (`make handouts`) prints each deck
+to build/handouts/NN_name.pdf, one page per slide, with Chromium (reveal's print view).
 
-Usage: python -m tools.slides [--out DIR] [NOTEBOOK ...]
+The slide is 1280x720 (a common projector) and scales as a whole to the screen: prose is
+30 px and code 25 px at 1280x720. reveal.js, MathJax, jQuery and require.js are unpacked
+into build/slides/vendor/ from the npm registry (tools/vendor.py), so the decks load
+nothing from the network: copy the whole build/slides/ folder to the lecture-hall
+machine and open NN_name.slides.html in a browser.
+
+`--report NOTEBOOK` builds that deck and measures every slide in Chromium with the
+network blocked (words, code lines, font sizes on screen, anything outside the slide at
+1280x720, 1024x768 and 1920x1080, figure sizes and alt text), against the limits of a
+lecture deck (README, "Adding a notebook"), with a screenshot of each slide in
+build/screenshots/slides/NN_name/.
+
+Usage: python -m tools.slides [--out DIR] [--solutions] [--handouts] [NOTEBOOK ...]
+       python -m tools.slides --report NOTEBOOK [NOTEBOOK ...]
 """
 
 import argparse
+import html as htmllib
+import re
+import statistics
 import sys
 from pathlib import Path
 
@@ -20,42 +38,136 @@ from nbconvert.exporters import SlidesExporter
 from traitlets.config import Config
 
 from tools import vendor
-from tools.common import (BUILD, TEMPLATES, Stamps, copy_assets, course_notebooks, read, relink,
-                          tooling_key, write_atomic)
+from tools.common import (
+    BUILD,
+    TEMPLATES,
+    Stamps,
+    copy_assets,
+    course_notebooks,
+    read,
+    relink,
+    tooling_key,
+    write_atomic,
+)
 
 VENDOR_DIR = "vendor"
+WIDTH, HEIGHT = 1280, 720  # the slide's design size: one CSS pixel is one pixel at 1280x720
+
+# The shape of a lecture deck (issue 10; README "Adding a notebook"). The tests hold every
+# deck to these; --report prints them next to each slide's figures.
+SLIDES_MIN, SLIDES_MAX = 20, 35          # slides per deck (00_start_here may be shorter)
+WORDS_MAX, WORDS_MEDIAN = 60, 40         # words of prose on a slide; median over the deck
+CODE_LINES_MAX = 12                      # source lines of code on a slide
+PROSE_PX, CODE_PX = 28, 24               # smallest font on screen at 1280x720
+FIGURE_FRACTION = 0.5                    # a figure spans half the slide's width or height
+SCREENS = [(1280, 720), (1024, 768), (1920, 1080)]  # nothing outside the slide at any
+
+# Cells a deck leaves out: the exercise's stub, checker call, worked solution and grading
+# asserts. The solutions deck keeps the worked solutions.
+DECK_DROPS = {"solution", "hidden-test", "answer", "check"}
+SOLUTION_DECK_DROPS = {"hidden-test", "answer", "check"}
+
+OUT = BUILD / "slides"
+OUT_SOLUTIONS = BUILD / "slides-solutions"
+OUT_HANDOUTS = BUILD / "handouts"
+SCREENSHOTS = BUILD / "screenshots" / "slides"
 
 
-def exporter():
+def exporter(solutions=False):
     c = Config()
     c.SlidesExporter.reveal_url_prefix = f"{VENDOR_DIR}/{vendor.REVEAL_PREFIX}"
-    c.SlidesExporter.mathjax_url = f"{VENDOR_DIR}/{vendor.MATHJAX_JS}"
+    c.SlidesExporter.mathjax_url = f"{VENDOR_DIR}/{vendor.MATHJAX3_SVG_JS}"
     c.SlidesExporter.require_js_url = f"{VENDOR_DIR}/{vendor.REQUIRE_JS}"
     c.SlidesExporter.jquery_url = f"{VENDOR_DIR}/{vendor.JQUERY_JS}"
     c.SlidesExporter.reveal_theme = "white"
     c.SlidesExporter.reveal_transition = "none"  # crisp on a projector
     c.SlidesExporter.reveal_number = "c/t"
-    c.SlidesExporter.reveal_scroll = True
-    c.SlidesExporter.reveal_width = "1280"
-    c.SlidesExporter.reveal_height = "800"
+    c.SlidesExporter.reveal_scroll = False  # a slide that does not fit is split, not scrolled
+    c.SlidesExporter.reveal_width = str(WIDTH)
+    c.SlidesExporter.reveal_height = str(HEIGHT)
     c.SlidesExporter.exclude_input_prompt = True
     c.SlidesExporter.exclude_output_prompt = True
     # A cell tagged "hide-input" shows only its output on the slide (a figure without the
     # plotting code); the notebook and the book still show the code.
+    c.TagRemovePreprocessor.enabled = True
     c.TagRemovePreprocessor.remove_input_tags = {"hide-input"}
+    c.TagRemovePreprocessor.remove_cell_tags = SOLUTION_DECK_DROPS if solutions else DECK_DROPS
     c.SlidesExporter.extra_template_basedirs = [str(TEMPLATES)]
     c.SlidesExporter.extra_template_paths = [str(TEMPLATES)]  # for course_mathjax.html.j2
     c.SlidesExporter.template_name = "course_slides"
     return SlidesExporter(config=c)
 
 
-def build(out=BUILD / "slides", notebooks=None):
-    """Write OUT/NN_name.slides.html for each notebook and the assets; returns the paths."""
+# --- HTML touches the template cannot make ------------------------------------------------
+
+_HIGHLIGHT = re.compile(r'(<div class="highlight[^"]*"><pre>)(.*?)(</pre></div>)', re.DOTALL)
+_TAG = re.compile(r"(<[^>]+>)")
+
+
+def _hang(inner):
+    """One span.cl per source line of Pygments' HTML, with the line's indentation as --ind,
+    so that a wrapped line continues 4 characters right of its own indentation."""
+    lines, current, text, stack = [], [], [], []
+    for token in _TAG.split(inner):
+        if not token:
+            continue
+        if token.startswith("<"):
+            if token.startswith("</"):
+                if stack:
+                    stack.pop()
+            elif not token.endswith("/>"):
+                stack.append(token)
+            current.append(token)
+            continue
+        parts = token.split("\n")
+        for k, part in enumerate(parts):
+            if k:  # a newline: close the open spans, end the line, reopen them
+                current.append("</span>" * len(stack))
+                lines.append(("".join(current), "".join(text)))
+                current, text = list(stack), []
+            current.append(part)
+            text.append(part)
+    if "".join(text).strip() or current and any(not t.startswith("<") for t in current):
+        current.append("</span>" * len(stack))
+        lines.append(("".join(current), "".join(text)))
+    out = []
+    for body, plain in lines:
+        plain = htmllib.unescape(plain)
+        indent = len(plain) - len(plain.lstrip(" "))
+        out.append(f'<span class="cl" style="--ind:{indent}ch">{body or " "}</span>')
+    return "".join(out)
+
+
+def hang_code(page):
+    return _HIGHLIGHT.sub(lambda m: m.group(1) + _hang(m.group(2)) + m.group(3), page)
+
+
+# The speaker view copies a note's HTML into its own window, without this page's styles:
+# each note carries the one rule that keeps MathJax's hidden MathML copy hidden there.
+NOTES_STYLE = ("<style>mjx-assistive-mml{position:absolute!important;top:0;left:0;"
+               "clip:rect(1px,1px,1px,1px);padding:1px 0 0 0!important;border:0!important;"
+               "display:block!important;width:auto!important;overflow:hidden!important;"
+               "user-select:none}mjx-container[display=\"true\"]{display:block;"
+               "text-align:center;margin:0.5em 0}mjx-container{position:relative}</style>")
+
+
+def finish(page):
+    page = hang_code(page)
+    page = page.replace('<aside class="notes">', '<aside class="notes">' + NOTES_STYLE)
+    return relink(page, ".slides.html")
+
+
+# --- build ----------------------------------------------------------------------------------
+
+def build(out=OUT, notebooks=None, solutions=False):
+    """Write OUT/NN_name.slides.html for each notebook and the assets; returns the paths.
+    With solutions=True the decks keep the worked solutions (for after the deadline)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    vendor.install(out / VENDOR_DIR, ["reveal.js", "mathjax", "jquery", "requirejs"])
+    vendor.install(out / VENDOR_DIR, ["reveal.js", "mathjax3", "jquery", "requirejs"])
     copy_assets(out)
-    exp, stamps, tooling = exporter(), Stamps(out), tooling_key()
+    exp, stamps = exporter(solutions), Stamps(out)
+    tooling = tooling_key() + ("+solutions" if solutions else "")
     written = []
     for path in notebooks or course_notebooks():
         path = Path(path)
@@ -63,22 +175,363 @@ def build(out=BUILD / "slides", notebooks=None):
         key = stamps.key(tooling, path.read_bytes())
         if not stamps.fresh(target.name, key):  # unchanged since the last build: keep it
             body, _ = exp.from_notebook_node(read(path), resources={"metadata": {"name": path.stem}})
-            write_atomic(target, relink(body, ".slides.html"))
+            write_atomic(target, finish(body))
             stamps.record(target.name, key)
         written.append(target)
-    for old in set(out.glob("*.slides.html")) - set(written):  # a notebook renamed or removed
-        old.unlink()
+    if notebooks is None:  # a notebook renamed or removed: its deck goes too
+        for old in set(out.glob("*.slides.html")) - set(written):
+            old.unlink()
     stamps.save()
+    return written
+
+
+# --- in Chromium: measuring a deck, printing it -----------------------------------------------
+
+def launch():
+    """(playwright, browser): Debian's Chromium through Playwright (tests/browser_support.py)."""
+    sys.path.insert(0, str(BUILD.parent / "tests"))
+    from browser_support import CHROMIUM_ARGS, chromium_executable
+    from playwright.sync_api import sync_playwright
+    exe = chromium_executable()
+    if exe is None:
+        raise SystemExit("no Chromium: apt-get install chromium, or set CHROMIUM=/path/to/chrome")
+    pw = sync_playwright().start()
+    return pw, pw.chromium.launch(executable_path=exe, args=CHROMIUM_ARGS)
+
+
+class OfflineDeck:
+    """A deck open in its own browser context at a screen size, every request that is not a
+    local file aborted and counted."""
+
+    def __init__(self, browser, deck, width=WIDTH, height=HEIGHT, query=""):
+        self.blocked, self.errors = [], []
+        self.context = browser.new_context(viewport={"width": width, "height": height})
+        self.context.route("**/*", self._route)
+        self.page = self.context.new_page()
+        self.page.on("pageerror", lambda e: self.errors.append(f"page error: {e}"))
+        self.page.on("console", lambda m: self.errors.append(f"console {m.type}: {m.text}")
+                     if m.type == "error" else None)
+        self.page.set_default_timeout(60_000)
+        self.page.goto(Path(deck).resolve().as_uri() + query, wait_until="commit")
+
+    def _route(self, route):
+        url = route.request.url
+        if url.startswith(("file:", "data:", "about:", "blob:")):
+            route.continue_()
+        else:
+            self.blocked.append(url)
+            route.abort()
+
+    def ready(self):
+        self.page.wait_for_function("document.documentElement.dataset.deckReady === '1'")
+        return self.page
+
+    def close(self):
+        self.context.close()
+
+
+# Runs in the page: the slides as (h, v) pairs.
+SLIDE_INDICES_JS = """() => Reveal.getSlides().map(s => { const i = Reveal.getIndices(s);
+  return [i.h, i.v || 0]; })"""
+
+# Runs in the page on the current slide, every fragment shown: what is on it and how it sits.
+MEASURE_JS = r"""
+() => {
+  const slide = Reveal.getCurrentSlide();
+  const slidesEl = document.querySelector('.reveal .slides');
+  const box = slidesEl.getBoundingClientRect();
+  const scale = box.width / slidesEl.offsetWidth;        // screen px per design px
+  const vw = window.innerWidth, vh = window.innerHeight;
+  const inNotes = el => !!el.closest('aside.notes');
+  const shown = el => { const r = el.getBoundingClientRect(); return r.width > 0 && r.height > 0
+    && getComputedStyle(el).visibility !== 'hidden'; };
+  const label = el => { let s = el.tagName.toLowerCase();
+    if (el.className && typeof el.className === 'string') s += '.' + el.className.trim().split(/\s+/)[0];
+    const t = (el.innerText || el.getAttribute('alt') || '').trim().replace(/\s+/g, ' ');
+    return t ? `${s} "${[...t].slice(0, 40).join('')}"` : s; };
+  const heading = slide.querySelector('h1, h2, h3, h4');
+  // prose: rendered markdown, each inline formula one word, display formulas none
+  let words = 0;
+  slide.querySelectorAll('.jp-RenderedMarkdown').forEach(md => {
+    if (inNotes(md)) return;
+    const c = md.cloneNode(true);
+    c.querySelectorAll('mjx-container').forEach(m =>
+      m.replaceWith(m.getAttribute('display') === 'true' ? ' ' : ' x '));
+    c.querySelectorAll('style, script, a.anchor-link').forEach(e => e.remove());
+    words += (c.textContent.match(/[\p{L}\p{N}][\p{L}\p{N}'’\-.]*/gu) || []).length;
+  });
+  const codes = [...slide.querySelectorAll('.jp-InputArea pre')].filter(e => !inNotes(e));
+  const codeLines = codes.map(p => p.querySelectorAll('.cl').length
+    || p.textContent.replace(/\n+$/, '').split('\n').length).reduce((a, b) => a + b, 0);
+  const longest = Math.max(0, ...codes.flatMap(p => p.textContent.split('\n').map(l => l.length)));
+  const outs = [...slide.querySelectorAll('.jp-OutputArea-output pre')].filter(e => !inNotes(e));
+  const outLines = outs.map(p => p.textContent.replace(/\n+$/, '').split('\n').length)
+    .reduce((a, b) => a + b, 0);
+  // smallest font on screen, prose and code, over elements that hold text themselves
+  let prosePx = null, codePx = null, proseAt = '', codeAt = '';
+  for (const el of slide.querySelectorAll('*')) {
+    if (inNotes(el) || el.closest('mjx-container, svg, style, script, sup, sub')) continue;
+    if (![...el.childNodes].some(n => n.nodeType === 3 && n.textContent.trim())) continue;
+    if (!shown(el)) continue;
+    const px = parseFloat(getComputedStyle(el).fontSize) * scale;
+    if (el.closest('pre, code, .jp-OutputArea-output')) {
+      if (codePx === null || px < codePx) { codePx = px; codeAt = label(el); }
+    } else if (prosePx === null || px < prosePx) { prosePx = px; proseAt = label(el); }
+  }
+  // anything outside the slide or the window, or clipped inside a box that would scroll
+  const problems = [];
+  for (const el of slide.querySelectorAll('*')) {
+    if (inNotes(el) || el.closest('mjx-container svg *, mjx-assistive-mml, style, script') || !shown(el)) continue;
+    const r = el.getBoundingClientRect();
+    const out = r.left < box.left - 1 || r.top < box.top - 1 || r.right > box.right + 1
+      || r.bottom > box.bottom + 1 || r.right > vw + 1 || r.bottom > vh + 1 || r.left < -1 || r.top < -1;
+    if (out && !problems.some(p => p.el.contains(el))) {
+      const below = Math.round(Math.max(r.bottom - box.bottom, r.right - box.right,
+        box.left - r.left, box.top - r.top));
+      problems.push({el, what: `outside the slide by ${below} px: ${label(el)}`});
+    }
+    const cs = getComputedStyle(el);
+    if ((el.scrollHeight > el.clientHeight + 2 && /auto|scroll|hidden/.test(cs.overflowY)) ||
+        (el.scrollWidth > el.clientWidth + 2 && /auto|scroll|hidden/.test(cs.overflowX)))
+      if (!el.closest('mjx-assistive-mml') && !problems.some(p => p.el.contains(el)))
+        problems.push({el, what: `cut off inside its box (needs a scroll): ${label(el)}`});
+  }
+  const figures = [...slide.querySelectorAll('img, .jp-RenderedSVG svg, .plotly-graph-div, canvas')]
+    .filter(e => !inNotes(e) && shown(e)).map(e => { const r = e.getBoundingClientRect();
+      return {w: Math.round(r.width), h: Math.round(r.height),
+              big: r.width >= 0.5 * box.width - 1 || r.height >= 0.5 * box.height - 1,
+              alt: e.tagName === 'IMG' ? (e.getAttribute('alt') || '') : (e.getAttribute('aria-label') || '-')}; });
+  const notes = [...slide.querySelectorAll('aside.notes')];
+  const noteMath = notes.flatMap(n => [...n.querySelectorAll('mjx-container')]);
+  return {
+    headline: heading ? heading.textContent.replace(/¶/g, '').trim() : '',
+    words, code_lines: codeLines, longest_code_line: longest, output_lines: outLines,
+    prose_px: prosePx && Math.round(prosePx * 10) / 10, prose_at: proseAt,
+    code_px: codePx && Math.round(codePx * 10) / 10, code_at: codeAt,
+    problems: problems.map(p => p.what), figures,
+    math: slide.querySelectorAll('mjx-container').length,
+    math_errors: slide.querySelectorAll('mjx-merror, [data-mjx-error]').length,
+    notes_words: notes.map(n => n.textContent.trim().split(/\s+/).filter(Boolean).length)
+      .reduce((a, b) => a + b, 0),
+    notes_math: noteMath.length,
+    scale: Math.round(scale * 1000) / 1000,
+  };
+}
+"""
+
+OVERFLOW_JS = MEASURE_JS  # the same walk; at the other screen sizes only 'problems' is read
+
+
+def goto(page, h, v):
+    """Show slide (h, v) with every fragment, the figures grown to fit, laid out."""
+    page.evaluate("([h, v]) => { Reveal.slide(h, v); while (Reveal.nextFragment()) {} }", [h, v])
+    page.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+
+
+def measure(deck, browser, screenshots=None, screens=SCREENS):
+    """Every slide of DECK measured in Chromium: a list of dicts (see MEASURE_JS), plus
+    'h', 'v', 'shot', and 'problems_at' {"WxH": [...]} for the other screen sizes; and
+    the deck's blocked requests and page errors."""
+    main = OfflineDeck(browser, deck, *screens[0])
+    page = main.ready()
+    indices = page.evaluate(SLIDE_INDICES_JS)
+    slides = []
+    if screenshots:
+        Path(screenshots).mkdir(parents=True, exist_ok=True)
+        for old in Path(screenshots).glob("*.png"):
+            old.unlink()
+    for h, v in indices:
+        goto(page, h, v)
+        m = page.evaluate(MEASURE_JS)
+        m.update(h=h, v=v, problems_at={f"{screens[0][0]}x{screens[0][1]}": m["problems"]})
+        if screenshots:
+            m["shot"] = str(Path(screenshots) / f"{len(slides) + 1:02d}_{h}-{v}.png")
+            page.screenshot(path=m["shot"])
+        slides.append(m)
+    for w, hgt in screens[1:]:
+        page.set_viewport_size({"width": w, "height": hgt})
+        page.evaluate("() => Reveal.layout()")
+        for m in slides:
+            goto(page, m["h"], m["v"])
+            m["problems_at"][f"{w}x{hgt}"] = page.evaluate(OVERFLOW_JS)["problems"]
+    result = {"slides": slides, "blocked": list(main.blocked), "errors": list(main.errors)}
+    main.close()
+    return result
+
+
+def slide_faults(m, deck_name=""):
+    """What is wrong with one measured slide, as short phrases (empty when nothing is)."""
+    faults = []
+    if not m["headline"]:
+        faults.append("no headline")
+    if m["words"] > WORDS_MAX:
+        faults.append(f"{m['words']} words > {WORDS_MAX}")
+    if m["code_lines"] > CODE_LINES_MAX:
+        faults.append(f"{m['code_lines']} code lines > {CODE_LINES_MAX}")
+    if m["prose_px"] is not None and m["prose_px"] < PROSE_PX - 0.05:
+        faults.append(f"prose {m['prose_px']} px < {PROSE_PX} ({m['prose_at']})")
+    if m["code_px"] is not None and m["code_px"] < CODE_PX - 0.05:
+        faults.append(f"code {m['code_px']} px < {CODE_PX} ({m['code_at']})")
+    first = None
+    for screen, problems in m["problems_at"].items():
+        gist = [re.sub(r"by \d+ px", "", p) for p in problems]
+        if first is not None and gist == first:
+            continue  # the same as at the first screen size (the slide scales as a whole)
+        first = gist if first is None else first
+        for p in problems[:3]:
+            faults.append(f"{screen}: {p}")
+        if len(problems) > 3:
+            faults.append(f"{screen}: {len(problems) - 3} more elements outside")
+    for f in m["figures"]:
+        if not f["big"]:
+            faults.append(f"figure {f['w']}x{f['h']} px is under half the slide")
+        if f["alt"] == "":
+            faults.append("figure without alt text (cell metadata.mystnb.image.alt)")
+    if m["math_errors"]:
+        faults.append(f"{m['math_errors']} TeX errors")
+    return faults
+
+
+def deck_faults(name, slides):
+    """What is wrong with the deck as a whole."""
+    faults = []
+    n = len(slides)
+    low = 1 if name.startswith("00") else SLIDES_MIN
+    if not low <= n <= SLIDES_MAX:
+        faults.append(f"{n} slides, not {low}..{SLIDES_MAX}")
+    med = statistics.median(m["words"] for m in slides) if slides else 0
+    if med > WORDS_MEDIAN:
+        faults.append(f"median {med:g} words > {WORDS_MEDIAN}")
+    if not any(m["notes_words"] for m in slides):
+        faults.append("no speaker notes at all")
+    return faults
+
+
+def solution_lines(notebook):
+    """The lines of the notebook's solution cells (tags in DECK_DROPS) that no kept cell has
+    too: none of them may appear in the default deck."""
+    nb = read(notebook)
+    kept = set()
+    dropped = []
+    for cell in nb.cells:
+        lines = [ln.strip() for ln in cell.source.splitlines() if len(ln.strip()) >= 12]
+        if DECK_DROPS & set(cell.metadata.get("tags", [])):
+            dropped += lines
+        elif cell.metadata.get("slideshow", {}).get("slide_type") != "skip":
+            kept.update(lines)
+    return sorted({ln for ln in dropped if ln not in kept})
+
+
+def report(notebook, browser):
+    """Build NOTEBOOK's deck, measure it and print the table; returns the number of faults."""
+    notebook = Path(notebook)
+    (deck,) = build(OUT, [notebook])
+    name = notebook.stem
+    shots = SCREENSHOTS / name
+    result = measure(deck, browser, screenshots=shots)
+    slides = result["slides"]
+    print(f"\n{name}: {deck.relative_to(BUILD.parent)}  (Chromium {WIDTH}x{HEIGHT}, network "
+          f"blocked; limits: {SLIDES_MIN}-{SLIDES_MAX} slides, <= {WORDS_MAX} words and median "
+          f"<= {WORDS_MEDIAN}, <= {CODE_LINES_MAX} code lines, prose >= {PROSE_PX} px, code >= "
+          f"{CODE_PX} px, figures >= half the slide, nothing outside at "
+          + ", ".join(f"{w}x{h}" for w, h in SCREENS) + ")")
+    print(f"{'#':>3} {'h.v':>5} {'words':>5} {'code':>4} {'out':>4} {'prose':>5} {'code':>5} "
+          f"{'figure':>9} {'notes':>5}  headline")
+    total = 0
+    for k, m in enumerate(slides, 1):
+        fig = ",".join(f"{f['w']}x{f['h']}" for f in m["figures"]) or "-"
+        px = (lambda v: f"{v:.0f}" if v is not None else "-")
+        print(f"{k:>3} {m['h']:>3}.{m['v']:<1} {m['words']:>5} {m['code_lines']:>4} "
+              f"{m['output_lines']:>4} {px(m['prose_px']):>5} {px(m['code_px']):>5} {fig:>9} "
+              f"{m['notes_words']:>5}  {m['headline'][:60]}")
+        for f in slide_faults(m):
+            print(f"{'':>10}! {f}")
+            total += 1
+    words = [m["words"] for m in slides]
+    print(f"\nsummary: {len(slides)} slides, median {statistics.median(words) if words else 0:g} "
+          f"words of prose (max {max(words, default=0)}), "
+          f"{sum(1 for m in slides if m['notes_words'])} slides with speaker notes, "
+          f"{sum(len(m['figures']) for m in slides)} figures, "
+          f"{sum(1 for m in slides if slide_faults(m))} slides with a fault")
+    for f in deck_faults(name, slides):
+        print(f"! deck: {f}")
+        total += 1
+    html = deck.read_text()
+    leaked = [ln for ln in solution_lines(notebook) if htmllib.escape(ln, quote=False) in html
+              or ln in html]
+    for ln in leaked[:5]:
+        print(f"! a solution line is in the deck: {ln[:70]}")
+    total += len(leaked)
+    for u in result["blocked"]:
+        print(f"! network request (blocked): {u}")
+    for e in result["errors"]:
+        print(f"! {e}")
+    total += len(result["blocked"]) + len(result["errors"])
+    print(f"screenshots: {shots.relative_to(BUILD.parent)}/NN_h-v.png")
+    print("faults: " + (str(total) if total else "none"))
+    return total
+
+
+def handouts(decks, out=OUT_HANDOUTS, browser=None):
+    """Print each deck through reveal's print view (?print-pdf) to OUT/NN_name.pdf, one page
+    per slide, with Chromium and no network; returns the PDF paths."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    own = browser is None
+    if own:
+        pw, browser = launch()
+    written = []
+    try:
+        for deck in decks:
+            deck = Path(deck)
+            target = out / (deck.name.removesuffix(".slides.html") + ".pdf")
+            d = OfflineDeck(browser, deck, WIDTH, HEIGHT, query="?print-pdf")
+            page = d.ready()
+            page.wait_for_function("document.querySelectorAll('.reveal .pdf-page').length > 0")
+            page.emulate_media(media="print")
+            page.pdf(path=str(target), width=f"{WIDTH}px", height=f"{HEIGHT}px",
+                     print_background=True, prefer_css_page_size=True)
+            problems = d.blocked + d.errors
+            d.close()
+            if problems:
+                raise SystemExit(f"{deck.name}: " + "; ".join(problems))
+            written.append(target)
+    finally:
+        if own:
+            browser.close()
+            pw.stop()
     return written
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=BUILD / "slides")
+    parser.add_argument("--out", type=Path, default=None)
+    parser.add_argument("--solutions", action="store_true",
+                        help="keep the worked solutions (default folder build/slides-solutions/)")
+    parser.add_argument("--handouts", action="store_true",
+                        help="also print each deck to a PDF in build/handouts/")
+    parser.add_argument("--report", action="store_true",
+                        help="build and measure the given notebooks' decks in Chromium")
     parser.add_argument("notebooks", nargs="*", type=Path)
     args = parser.parse_args(argv)
-    for target in build(args.out, args.notebooks or None):
+    if args.report:
+        if not args.notebooks:
+            parser.error("--report needs a notebook: python -m tools.slides --report notebooks/01_x.ipynb")
+        pw, browser = launch()
+        try:
+            faults = sum(report(nb, browser) for nb in args.notebooks)
+        finally:
+            browser.close()
+            pw.stop()
+        return 1 if faults else 0
+    out = args.out or (OUT_SOLUTIONS if args.solutions else OUT)
+    decks = build(out, args.notebooks or None, solutions=args.solutions)
+    for target in decks:
         print(target.relative_to(Path.cwd()) if target.is_relative_to(Path.cwd()) else target)
+    if args.handouts:
+        for pdf in handouts(decks):
+            print(pdf.relative_to(Path.cwd()) if pdf.is_relative_to(Path.cwd()) else pdf)
+    return 0
 
 
 if __name__ == "__main__":

@@ -23,16 +23,19 @@ CACHE = ROOT / "build" / "npm"
 # name: (version, npm integrity of the tarball). To upgrade: change both (`npm view
 # NAME@VERSION dist.integrity`), run `make slides book`, then `make test`.
 PACKAGES = {
-    "reveal.js": ("4.0.2", "sha512-LWZSUenufF1gpD7npxJ7KfoQQFKgc1D6XrLTFgKlwWNP1BQ74hT48KONFWMAw+8R/QUeaScCLCLrBVHDfFIEiw=="),
+    "reveal.js": ("6.0.2", "sha512-JYIg5D9aoxoaLeb84O+OvAwsKWdIavVgEDScxtYEXFCT6t6TQrhNtSgogcjdCpdLsWglhJn3zyE3fUOwiH5KEg=="),
     "mathjax": ("2.7.7", "sha512-OOl0B2/0tSJAtAZarXnQuLDBLgTNRqiI9VqHTQzPsxf4okT2iIpDrvaklK9x2QEMD1sDj4yRn11Ygci41DxMAQ=="),
     "jquery": ("3.7.1", "sha512-m4avr8yL8kmFN8psrbFFFmB/If14iN5o9nw/NgnnM+kybDJpRsAynV2BsfpTYrTRysYUdADVD7CkUUizgkpLfg=="),
     "requirejs": ("2.3.7", "sha512-DouTG8T1WanGok6Qjg2SXuCMzszOo0eHeH9hDZ5Y4x8Je+9JB38HdTLT4/VA8OaUhBa0JPVHJ0pyBkM1z+pDsw=="),
+    # The book (Jupyter Book / Sphinx) needs MathJax 3; an npm alias lets it sit beside 2.7.7.
+    "mathjax3": ("npm:mathjax@3.2.2", "sha512-Bt+SSVU8eBG27zChVewOicYs7Xsdt40qm4+UpHyX7k0/O9NliPc+x77k1/FEsPsjKPZGJvtRZM1vO+geW0OhGw=="),
 }
 
 # The files each page needs, as glob patterns inside the package. MathJax is trimmed to
 # the TeX input, the CommonHTML output and its web fonts (about 4 MB instead of 70 MB).
 FILES = {
-    "reveal.js": ["LICENSE", "dist/*", "plugin/notes/*"],
+    "reveal.js": ["LICENSE", "dist/reveal.js", "dist/reveal.css", "dist/theme/white.css",
+                  "dist/plugin/notes.js"],
     "mathjax": [
         "LICENSE", "MathJax.js", "config/TeX-AMS_CHTML-full.js", "config/Safe.js",
         "extensions/*", "jax/input/TeX/*", "jax/element/*", "jax/output/CommonHTML/*",
@@ -40,6 +43,10 @@ FILES = {
     ],
     "jquery": ["LICENSE.txt", "dist/jquery.min.js"],
     "requirejs": ["README.md", "require.js"],
+    # MathJax 3 as one file with every TeX extension built in, its fonts, menu and a11y.
+    "mathjax3": ["LICENSE", "es5/tex-chtml-full.js", "es5/output/chtml/fonts/woff-v2/*",
+                 "es5/a11y/*", "es5/ui/*",
+                 "es5/tex-svg-full.js"],  # the decks
 }
 
 # What a page's <script> and <link> point at, relative to the directory the assets go in.
@@ -47,6 +54,9 @@ MATHJAX_JS = "mathjax/MathJax.js?config=TeX-AMS_CHTML-full,Safe"
 REQUIRE_JS = "requirejs/require.js"
 JQUERY_JS = "jquery/dist/jquery.min.js"
 REVEAL_PREFIX = "reveal.js"
+# the decks: MathJax 3 SVG output, whose formulas draw without the page's style sheet
+# (so that the speaker view shows each once)
+MATHJAX3_SVG_JS = "mathjax3/es5/tex-svg-full.js"
 
 
 def _sri(path):

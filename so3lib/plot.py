@@ -8,30 +8,47 @@ import matplotlib as mpl
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["use_course_style", "set_axes_equal", "draw_frame", "new_3d_axes", "FRAME_COLORS"]
+__all__ = ["FRAME_COLORS", "SLIDE_STYLE", "draw_frame", "new_3d_axes", "set_axes_equal", "use_course_style"]
 
 #: Colours of the x, y and z axes of a body frame (red, green, blue, as in most tools).
 FRAME_COLORS = ("tab:red", "tab:green", "tab:blue")
 
 
+#: The house style: sizes for a figure that a deck shows at its drawn size (100 px/inch).
+SLIDE_STYLE = {
+    "figure.figsize": (10.0, 5.0),
+    "figure.dpi": 100,
+    "savefig.dpi": 100,
+    "font.size": 17,
+    "axes.titlesize": 19,
+    "axes.labelsize": 18,
+    "xtick.labelsize": 16,
+    "ytick.labelsize": 16,
+    "legend.fontsize": 16,
+    "figure.titlesize": 20,
+    "lines.linewidth": 2.5,
+    "lines.markersize": 8,
+    "axes.linewidth": 1.2,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "svg.hashsalt": "so3lib",
+}
+
+
 def use_course_style():
     """One figure style for every notebook, and deterministic figure output.
 
-    Sets a readable size and font, light grids, and -- when running under IPython's
-    inline backend -- drops the matplotlib version from the PNG metadata, so that
-    committed outputs do not change when matplotlib is upgraded.
+    Figures are drawn for projection: at 100 dpi a figure is as many pixels as a deck
+    shows it with (the slide is 1280x720), so the default 10 x 5 inches is 1000 x 500 px
+    and the 16 pt tick labels are 22 px on the screen, legible from the back row. A
+    figure alone on a slide under a one-line headline can be up to about 11.5 x 5.6
+    inches; a 3-D figure about 6 x 5.6 (see ``new_3d_axes``). Under IPython's inline
+    backend it also drops the matplotlib version from the PNG metadata, so that committed
+    outputs do not change when matplotlib is upgraded.
     """
-    mpl.rcParams.update({
-        "figure.figsize": (6.4, 4.0),
-        "figure.dpi": 90,
-        "axes.grid": True,
-        "grid.alpha": 0.3,
-        "axes.titlesize": "medium",
-        "legend.fontsize": "small",
-        "svg.hashsalt": "so3lib",
-    })
+    mpl.rcParams.update(SLIDE_STYLE)
     try:
-        ip = get_ipython()  # noqa: F821 -- defined only inside IPython
+        ip = get_ipython()
     except NameError:
         return
     ip.run_line_magic("config", "InlineBackend.print_figure_kwargs = "
@@ -60,7 +77,7 @@ def draw_frame(ax, R, origin=(0.0, 0.0, 0.0), length=1.0, label=None, alpha=1.0,
         ax.text(*(origin + 1.08 * length * R.sum(axis=1) / np.sqrt(3)), label)
 
 
-def new_3d_axes(title, figsize=(5.0, 5.0)):
+def new_3d_axes(title, figsize=(6.0, 5.6)):
     """A figure with one 3-D axes, labelled x, y, z, and the given title."""
     fig = plt.figure(figsize=figsize)
     ax = fig.add_subplot(projection="3d")

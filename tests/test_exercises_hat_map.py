@@ -1,45 +1,65 @@
 """Checkers of notebook 01 (so3lib.exercises.hat_map): right answers pass; missing,
 raising, wrong-shape, NaN and typical wrong answers get a helpful message, never an
-exception."""
+exception, and no message gives the answer away."""
+
+import inspect
 
 import numpy as np
 import pytest
+from checker_support import not_written as _not_written
+from checker_support import says_for as _says
 
 import so3lib
-from checker_support import not_written as _not_written, says_for as _says
-from so3lib.exercises.hat_map import (check_fifth_power, check_hat,
-                                      check_power_coefficients, power_coefficients)
+from so3lib.exercises import hat_map
+from so3lib.exercises.hat_map import (
+    check_fifth_power,
+    check_power_coefficients,
+    check_split,
+)
 
 
-# ------------------------------------------------------------------ 1.1 hat
+def test_module_holds_no_answer():
+    # only checkers are public, and no private function computes an exercise's answer
+    public = [n for n, f in inspect.getmembers(hat_map, inspect.isfunction)
+              if f.__module__ == hat_map.__name__ and not n.startswith("_")]
+    assert sorted(public) == sorted(hat_map.__all__), public
+    assert all(n.startswith("check_") for n in public), public
+    assert not hasattr(hat_map, "power_coefficients")
+    assert not hasattr(hat_map, "_sq")
 
-def test_hat_right_answers_pass():
-    def by_hand(a):
-        a1, a2, a3 = a
-        return np.array([[0, -a3, a2], [a3, 0, -a1], [-a2, a1, 0]])
-    for func in (so3lib.hat, by_hand, lambda a: np.cross(np.eye(3), a)):
-        fb = check_hat(func)
-        assert fb and repr(fb).startswith("Correct: hat_matrix"), repr(fb)
+
+# ------------------------------------------------------------------ 1.1 split
+
+def _split(M):
+    M = np.asarray(M, dtype=float)
+    return (M + M.T) / 2, (M - M.T) / 2
+
+
+def test_split_right_answers_pass():
+    for func in (_split, lambda M: (np.asarray(M) - so3lib.hat(so3lib.vee((M - M.T) / 2)),
+                                    so3lib.hat(so3lib.vee((M - M.T) / 2)))):
+        fb = check_split(func)
+        assert fb and repr(fb).startswith("Correct: split"), repr(fb)
+        assert "tr(S^T K)" in repr(fb)
 
 
 @pytest.mark.parametrize("student, pattern", [
     (None, "No answer yet"),
     (..., "No answer yet"),
     (_not_written, "Not written yet"),
-    (lambda a: a[5], "raised IndexError"),
-    (lambda a: np.zeros(3), r"shape \(3,\); expected shape \(3, 3\)"),
-    (lambda a: np.full((3, 3), np.nan), "NaN or inf"),
-    (lambda a: so3lib.hat(a).T, r"off by a sign(.|\n)*Hint: Row 1 of hat\(a\) is \(0, -a3, a2\)"),
-    (lambda a: np.diag(a), "Hint: Row 1"),
+    (lambda M: M[5], "raised IndexError"),
+    (lambda M: M, "does not unpack into two matrices"),
+    (lambda M: (M, M, M), "does not unpack into two matrices"),
+    (lambda M: (np.zeros(3), M), r"S has shape \(3,\)"),
+    (lambda M: (M, np.full((3, 3), np.nan)), "K contains NaN"),
+    (lambda M: _split(M)[::-1], "swapped"),
+    (lambda M: (M + M.T, M - M.T), "S \\+ K is 2M(.|\n)*divide by two"),
+    (lambda M: (M, M.T), "S is not symmetric(.|\n)*Hint: Transposing"),
+    (lambda M: (_split(M)[0], _split(M)[1] + np.eye(3)), "K is not skew"),
+    (lambda M: (_split(M)[0] + 1.0, _split(M)[1]), "S \\+ K differs from M"),
 ])
-def test_hat_wrong_answers_get_a_message(student, pattern):
-    _says(check_hat(student), "hat_matrix", pattern)
-
-
-def test_hat_message_shows_no_negative_zero():
-    # hat((1, 0, 0)) holds -0.0 entries; "-0." in a message reads like a sign error
-    text = repr(check_hat(lambda a: so3lib.hat(a).T))
-    assert "off by a sign" in text and "-0." not in text, text
+def test_split_wrong_answers_get_a_message(student, pattern):
+    _says(check_split(student), "split", pattern)
 
 
 # ------------------------------------------------------------------ 1.2 fifth power
@@ -52,18 +72,23 @@ def test_fifth_power_right_answer_passes():
 @pytest.mark.parametrize("answer, pattern", [
     (None, "No answer yet"),
     (..., "No answer yet"),
-    ([196, 196], r"shape \(2,\); expected shape \(\)"),
+    ([196, 196], r"shape \(2,\); it should be one number"),
     (float("nan"), "NaN or inf"),
     (-196, "wrong sign"),
     (-14, "factor of hat\\(a\\)\\^3"),
     (14 ** 4, "power of \\|a\\|"),
-    (100, "Start from the Lemma"),
+    (100, "differs from hat\\(a\\)\\^5(.|\n)*Start from the Lemma"),
     ("196x", "not a number"),
     (196 * so3lib.hat([1, 2, 3]), "that matrix is right(.|\n)*number c itself"),
     (-5 * so3lib.hat([1, 2, 3]), "not hat\\(a\\)\\^5"),
 ])
 def test_fifth_power_wrong_answers_get_a_message(answer, pattern):
     _says(check_fifth_power(answer), "the coefficient c", pattern)
+
+
+@pytest.mark.parametrize("answer", [None, -196, -14, 14 ** 4, 100, 195.5, "x"])
+def test_fifth_power_never_prints_the_answer(answer):
+    assert "196" not in repr(check_fifth_power(answer)).replace(str(answer), "")
 
 
 def test_fifth_power_unreadable_answer_does_not_raise():
@@ -75,43 +100,42 @@ def test_fifth_power_unreadable_answer_does_not_raise():
 
 # ------------------------------------------------------------------ 1.3 all powers
 
-def test_power_coefficients_reference_matches_matrix_powers():
-    for a in ([1.0, 2.0, 3.0], [0.5, -1.0, 0.25], [0.0, 0.0, 2.0]):
-        H = so3lib.hat(a)
-        basis = np.stack([np.eye(3), H, H @ H])
-        for p in range(0, 11):
-            c = power_coefficients(a, p)
-            assert np.allclose(np.tensordot(c, basis, 1), np.linalg.matrix_power(H, p))
+def _student(a, p):
+    a = np.asarray(a)
+    if p == 0:
+        return (1, 0, 0)
+    k = (p - 1) // 2
+    c = (-1) ** k * (a @ a) ** k
+    return (0, c, 0) if p % 2 == 1 else (0, 0, c)
 
 
-def test_power_coefficients_right_answer_passes():
-    def student(a, p):
-        a = np.asarray(a)
-        if p == 0:
-            return (1, 0, 0)
-        k = (p - 1) // 2
-        c = (-1) ** k * (a @ a) ** k
-        return (0, c, 0) if p % 2 == 1 else (0, 0, c)
-    fb = check_power_coefficients(student)
-    assert fb and repr(fb).startswith("Correct: power_coefficients"), repr(fb)
-    assert check_power_coefficients(power_coefficients)
+def _fitted(a, p):
+    # a matrix power and a least-squares fit: the exercise allows it, the property holds
+    H = so3lib.hat(a)
+    basis = np.stack([np.eye(3).ravel(), H.ravel(), (H @ H).ravel()], axis=1)
+    return np.linalg.lstsq(basis, np.linalg.matrix_power(H, p).ravel(), rcond=None)[0]
+
+
+def test_power_coefficients_right_answers_pass():
+    for func in (_student, _fitted):
+        fb = check_power_coefficients(func)
+        assert fb and repr(fb).startswith("Correct: power_coefficients"), repr(fb)
 
 
 def _forgets_identity(a, p):
-    c = power_coefficients(a, p)
-    return c if p else np.array([0.0, 0.0, -1.0 / float(np.dot(a, a))])
+    return _student(a, p) if p else (0.0, 0.0, -1.0 / float(np.dot(a, a)))
 
 
 def _wrong_sign(a, p):
-    return -power_coefficients(a, p) if p >= 3 else power_coefficients(a, p)
+    return tuple(-np.asarray(_student(a, p))) if p >= 3 else _student(a, p)
 
 
 def _uses_norm_not_square(a, p):
     if p == 0:
-        return np.array([1.0, 0.0, 0.0])
+        return (1.0, 0.0, 0.0)
     k = (p - 1) // 2
     c = (-1) ** k * np.linalg.norm(a) ** k
-    return np.array([0.0, c, 0.0]) if p % 2 else np.array([0.0, 0.0, c])
+    return (0.0, c, 0.0) if p % 2 else (0.0, 0.0, c)
 
 
 @pytest.mark.parametrize("student, pattern", [
@@ -119,11 +143,18 @@ def _uses_norm_not_square(a, p):
     (..., "No answer yet"),
     (_not_written, "Not written yet"),
     (lambda a, p: 1 / 0, "raised ZeroDivisionError"),
-    (lambda a, p: (0, 1), r"shape \(2,\); expected shape \(3,\)"),
+    (lambda a, p: (0, 1), r"shape \(2,\); it should have shape \(3,\)"),
     (lambda a, p: (np.nan, 0, 0), "NaN or inf"),
-    (_forgets_identity, r"power_coefficients\(.*0\)(.|\n)*hat\(a\)\^0 is the identity"),
+    (lambda a, p: None, "returned None"),
+    (_forgets_identity, r"power_coefficients\(.*, 0\)(.|\n)*hat\(a\)\^0 is the identity"),
     (_wrong_sign, r"p = 3 is odd"),
     (_uses_norm_not_square, r"p = 3 is odd(.|\n)*\(a @ a\)\*\*k|p = 4 is even"),
 ])
 def test_power_coefficients_wrong_answers_get_a_message(student, pattern):
     _says(check_power_coefficients(student), "power_coefficients", pattern)
+
+
+@pytest.mark.parametrize("student", [_forgets_identity, _wrong_sign, _uses_norm_not_square])
+def test_power_coefficients_messages_show_no_expected_coefficients(student):
+    text = repr(check_power_coefficients(student))
+    assert "(1, 0, 0)" not in text and "expected" not in text, text

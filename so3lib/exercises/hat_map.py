@@ -1,145 +1,208 @@
 r"""Checkers for the exercises of notebook 01, "The hat map and the Lemma".
 
-=============  ==================================  ====================================
-exercise       the learner writes                  checker
-=============  ==================================  ====================================
-1.1            ``hat_matrix(a)``, shape (3, 3)     :func:`check_hat`
-1.2            ``c``, with ``hat(a)^5 = c hat(a)``  :func:`check_fifth_power`
+=============  =========================================  ===================================
+exercise       the learner writes                         checker
+=============  =========================================  ===================================
+1.1            ``split(M) -> (S, K)``: the symmetric and  :func:`check_split`
+               skew parts of a 3x3 matrix, ``M = S + K``
+1.2            ``c``, with ``hat(a)^5 = c hat(a)``        :func:`check_fifth_power`
                for ``a = (1, 2, 3)``
-1.3            ``power_coefficients(a, p)``         :func:`check_power_coefficients`
+1.3            ``power_coefficients(a, p)``               :func:`check_power_coefficients`
                ``-> (c0, c1, c2)`` with
                ``hat(a)^p = c0 I + c1 hat(a) + c2 hat(a)^2``
-=============  ==================================  ====================================
+=============  =========================================  ===================================
 
-Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises.
+Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises. A checker
+holds no answer: it tests the defining property of what the learner hands in (``S`` is
+symmetric, ``K`` skew and ``S + K = M``; ``c hat(a)`` equals ``hat(a)^5`` multiplied out
+with a matrix power) and never prints the value it is looking for. When an answer is
+wrong it names the usual mistake it matches, with a hint.
 """
 
 import numpy as np
 
 from ..so3 import hat
-from . import Feedback, check_function, check_value, never_raises
+from . import Feedback, never_raises
 
-__all__ = ["check_hat", "check_fifth_power", "check_power_coefficients",
-           "power_coefficients"]
+__all__ = ["check_fifth_power", "check_power_coefficients", "check_split"]
+
+_NOT_ANSWERED = ("No answer yet: replace the `...` (or `None`) with your answer and run "
+                 "the cell again.")
+
+
+def _fail(name, why, hint=None):
+    """A "Not yet" Feedback: what is wrong, then the hint."""
+    return Feedback(False, f"Not yet: {name}. {why}" + (f"\nHint: {hint}" if hint else ""))
+
 
 #: The vector of exercise 1.2.
 A_FIFTH = np.array([1.0, 2.0, 3.0])
 
-_HAT_INPUTS = [
-    (np.array([1.0, 0.0, 0.0]),),
-    (np.array([0.0, 0.0, 1.0]),),
-    (np.array([1.0, 2.0, 3.0]),),
-    (np.array([-0.5, 0.25, 2.0]),),
+def _floats(x, shape=None):
+    """``x`` as a finite float array (of ``shape``, if given), or None."""
+    try:
+        arr = np.asarray(x, dtype=float)
+    except Exception:  # noqa: BLE001 -- a checker never raises
+        return None
+    if shape is not None and arr.shape != shape:
+        return None
+    return arr if np.isfinite(arr).all() else None
+
+
+def _call(func, name, args, shown, hint=None):
+    """Call the learner's ``func(*args)`` (on copies). Returns ``(result, None)``, or
+    ``(None, feedback)`` when there is nothing to compare yet or the call failed."""
+    if func is None or func is Ellipsis:
+        return None, _fail(name, _NOT_ANSWERED)
+    if not callable(func):
+        return None, _fail(name, f"Expected a function, got a {type(func).__name__}.")
+    try:
+        got = func(*[np.array(a, copy=True) if isinstance(a, np.ndarray) else a for a in args])
+    except NotImplementedError:
+        return None, _fail(name, "Not written yet: the function still raises NotImplementedError.")
+    except Exception as err:  # noqa: BLE001 -- a checker never raises
+        return None, _fail(name, f"Calling it on {shown} raised {type(err).__name__}: {err}", hint)
+    if got is None:
+        return None, _fail(name, f"It returned None on {shown}: is the `return` missing?")
+    return got, None
+
+
+def _shape_problem(got, shape, what):
+    """A sentence when ``got`` is not a finite float array of ``shape``, else None."""
+    try:
+        arr = np.asarray(got, dtype=float)
+    except Exception:  # noqa: BLE001 -- a checker never raises
+        return f"{what} is a {type(got).__name__}, not a number or an array of numbers."
+    if arr.shape != shape:
+        return f"{what} has shape {arr.shape}; it should have shape {shape}."
+    if not np.isfinite(arr).all():
+        return f"{what} contains NaN or inf."
+    return None
+
+
+# ---------------------------------------------------------------- exercise 1.1
+
+_SPLIT_INPUTS = [
+    ("the integer matrix [[1, 2, 3], [4, 5, 6], [7, 8, 10]]",
+     np.array([[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 10.0]])),
+    ("hat((1, 2, 3)), which is skew already", hat([1.0, 2.0, 3.0])),
+    ("the symmetric matrix diag(1, 2, 3) + 1", np.diag([1.0, 2.0, 3.0]) + 1.0),
+    ("a random 3x3 matrix", np.random.default_rng(101).standard_normal((3, 3))),
 ]
 
-_HAT_HINT = ("Row 1 of hat(a) is (0, -a3, a2), row 2 is (a3, 0, -a1), row 3 is (-a2, a1, 0). "
-             "Test your matrix: hat_matrix(a) @ b should equal np.cross(a, b).")
+_SPLIT_HINT = ("Transposing swaps the roles: if M = S + K then M^T = S - K. Two equations, "
+               "two unknowns: solve them for S and K.")
 
 
-def _sq(a):
-    a = np.asarray(a, dtype=float)
-    return float(a @ a)
+@never_raises("split")
+def check_split(func):
+    r"""Exercise 1.1: ``func(M)`` returns ``(S, K)`` with :math:`S^T = S`, :math:`K^T = -K`
+    and :math:`S + K = M`.
 
-
-def power_coefficients(a, p):
-    r"""The three numbers with :math:`\hat a^p = c_0 I + c_1 \hat a + c_2 \hat a^2`.
-
-    .. math:: \hat a^0 = I,\qquad
-              \hat a^{2k+1} = (-1)^k \lVert a\rVert^{2k}\,\hat a,\qquad
-              \hat a^{2k+2} = (-1)^k \lVert a\rVert^{2k}\,\hat a^2 \quad (k \ge 0)
-
-    Notebook 01, equations (1.7) and (1.8); the reference answer of exercise 1.3.
-
-    Parameters
-    ----------
-    a : array_like, shape (3,)
-    p : int, p >= 0
-
-    Returns
-    -------
-    c : ndarray, shape (3,)
-        ``(c0, c1, c2)``.
+    Tests those three properties on four matrices (a skew one and a symmetric one among
+    them), and reports the inner product :math:`\operatorname{tr}(S^T K)` of the result.
+    Recognises the missing halves (``S + K = 2M``) and ``S`` and ``K`` swapped.
     """
-    if p == 0:
-        return np.array([1.0, 0.0, 0.0])
-    k = (p - 1) // 2
-    c = (-1.0) ** k * _sq(a) ** k
-    return np.array([0.0, c, 0.0]) if p % 2 else np.array([0.0, 0.0, c])
-
-
-def _without_negative_zero(func):
-    """``func`` with ``-0.0`` entries of its result shown as ``0.0``.
-
-    ``hat`` writes ``-a3`` etc., so ``hat((1, 0, 0))`` holds ``-0.0``; printed in a message,
-    ``[[0., -0., 0.], ...]`` reads like a sign error. Adding ``0.0`` changes nothing else.
-    Results that are not numeric arrays (None, the wrong type) are passed on untouched,
-    so that the checker's own messages for them still apply.
-    """
-    def wrapped(*args):
-        result = func(*args)
+    name = "split"
+    worst_inner = 0.0
+    for label, M in _SPLIT_INPUTS:
+        got, fb = _call(func, name, (M,), f"split({label})", _SPLIT_HINT)
+        if fb is not None:
+            return fb
         try:
-            arr = np.asarray(result, dtype=float)
-        except (TypeError, ValueError):
-            return result
-        return arr + 0.0 if result is not None and arr.ndim == 2 else result
-    return wrapped
+            S, K = got
+        except Exception:  # noqa: BLE001 -- a checker never raises
+            return _fail(name, f"On {label} it returned a {type(got).__name__} that does not "
+                               "unpack into two matrices.", "Return a pair: `return S, K`.")
+        for what, X in (("S", S), ("K", K)):
+            problem = _shape_problem(X, (3, 3), f"On {label}, {what}")
+            if problem:
+                return _fail(name, problem, "S and K are 3x3 arrays, like M.")
+        S, K = np.asarray(S, dtype=float), np.asarray(K, dtype=float)
+        scale = 1e-12 * max(1.0, float(np.abs(M).max()))
+        sym = float(np.abs(S - S.T).max())
+        skew = float(np.abs(K + K.T).max())
+        total = float(np.abs(S + K - M).max())
+        if sym <= scale and skew <= scale and total <= scale:
+            worst_inner = max(worst_inner, abs(float(np.sum(S * K))))
+            if worst_inner > scale:                     # cannot happen: the proof
+                return _fail(name, f"On {label}, tr(S^T K) = {worst_inner:.2g}, not 0.")
+            continue
+        if np.abs(S + S.T).max() <= scale and np.abs(K - K.T).max() <= scale:
+            why = f"On {label}, your S is skew and your K symmetric: they are swapped."
+            return _fail(name, why, "S is the symmetric part (S^T = S), K the skew part (K^T = -K).")
+        if sym <= scale and skew <= scale and np.abs(S + K - 2 * M).max() <= 2 * scale:
+            why = (f"On {label}, S is symmetric and K is skew, but S + K is 2M, not M.")
+            return _fail(name, why, "M + M^T = 2S: divide by two.")
+        parts = []
+        if sym > scale:
+            parts.append(f"S is not symmetric (S - S^T is {sym:.2g} in its largest entry)")
+        if skew > scale:
+            parts.append(f"K is not skew (K + K^T is {skew:.2g} in its largest entry)")
+        if total > scale:
+            parts.append(f"S + K differs from M by {total:.2g}")
+        return _fail(name, f"On {label}: " + "; ".join(parts) + ".", _SPLIT_HINT)
+    return Feedback(True, f"Correct: {name}. S is symmetric, K is skew and S + K = M for "
+                          f"{len(_SPLIT_INPUTS)} matrices; and tr(S^T K) is "
+                          f"{'0' if worst_inner == 0 else 'below 1e-12'} (zero up to "
+                          "rounding), as your proof says.")
 
 
-def check_hat(func):
-    """Exercise 1.1: ``func(a)`` must return the 3x3 matrix ``hat(a)``.
-
-    A matrix with the opposite sign (the transpose, since hat(a) is skew) gets a hint
-    about the sign pattern. Matrices in the message never show ``-0.``.
-    """
-    if not callable(func):
-        return check_function(func, hat, _HAT_INPUTS, "hat_matrix", hint=_HAT_HINT)
-    return check_function(_without_negative_zero(func), _without_negative_zero(hat),
-                          _HAT_INPUTS, "hat_matrix", hint=_HAT_HINT)
-
+# ---------------------------------------------------------------- exercise 1.2
 
 @never_raises("the coefficient c of hat(a)^5 = c hat(a)")
 def check_fifth_power(answer):
     r"""Exercise 1.2: the number ``c`` with :math:`\hat a^5 = c\,\hat a` for ``a = (1, 2, 3)``.
 
-    Recognises the usual slips: the sign, the exponent of ``|a|``, and handing in the
-    matrix :math:`\hat a^5` instead of the number.
+    Compares ``c hat(a)`` with ``hat(a)^5`` multiplied out (exact in floats: the entries
+    are integers below 2^53). Recognises the usual slips: the sign, the exponent of
+    ``|a|``, and handing in the matrix :math:`\hat a^5` instead of the number.
     """
     name = "the coefficient c of hat(a)^5 = c hat(a)"
-    n2 = _sq(A_FIFTH)                                  # |a|^2 = 14
-    expected = n2 ** 2                                 # (-1)^2 |a|^4 = 196
-    try:
-        arr = None if answer is None or answer is Ellipsis else np.asarray(answer, dtype=float)
-    except Exception:  # not a number: check_value writes the message
-        arr = None
-    if arr is not None and arr.shape == (3, 3) and np.isfinite(arr).all():
-        H = hat(A_FIFTH)
-        c = float(np.sum(arr * H) / np.sum(H * H))   # the best c with arr ~ c hat(a)
-        if np.allclose(arr, c * H, atol=1e-8, rtol=1e-10):
-            verdict = ("and that matrix is right" if np.isclose(c, expected)
-                       else "but it is not hat(a)^5")
-            return Feedback(False, f"Not yet: {name}. You gave a 3x3 matrix, equal to "
-                                   f"{c:.6g} hat(a), {verdict}. The exercise asks for the "
-                                   "number c itself.")
+    H = hat(A_FIFTH)
+    H5 = np.linalg.matrix_power(H, 5)
+    n2 = float(A_FIFTH @ A_FIFTH)                      # |a|^2 = 14
     hint = ("Start from the Lemma, hat(a)^3 = -|a|^2 hat(a), and write "
             "hat(a)^5 = hat(a)^3 hat(a)^2 = -|a|^2 hat(a)^3. Here |a|^2 = 1 + 4 + 9 = 14.")
-    if arr is not None and arr.shape == () and np.isfinite(arr):
-        x = float(arr)
-        if np.isclose(x, -expected):
-            hint = ("Right size, wrong sign: each use of the Lemma brings a factor "
-                    "-|a|^2, and you used it twice, so the two minus signs cancel.")
-        elif np.isclose(abs(x), n2):
-            hint = ("That is (up to sign) the factor of hat(a)^3 = -|a|^2 hat(a). Apply "
-                    "the Lemma once more: hat(a)^5 = hat(a)^3 hat(a)^2.")
-        elif any(np.isclose(abs(x), v) for v in (n2 ** 1.5, n2 ** 2.5, n2 ** 4, n2 ** 5)):
-            hint = ("Check the power of |a|: hat(a)^(2k+1) = (-1)^k |a|^(2k) hat(a), and "
-                    "5 = 2k + 1 gives k = 2, so the factor is |a|^4 = (|a|^2)^2.")
-    return check_value(answer, expected, name, atol=1e-9, rtol=1e-9, hint=hint)
+    if answer is None or answer is Ellipsis:
+        return _fail(name, _NOT_ANSWERED)
+    try:
+        arr = np.asarray(answer, dtype=float)
+    except Exception:  # noqa: BLE001 -- a checker never raises
+        return _fail(name, f"The answer is a {type(answer).__name__}, not a number.", hint)
+    if arr.shape == (3, 3) and np.isfinite(arr).all():
+        right = np.allclose(arr, H5, rtol=1e-12, atol=0)
+        verdict = "and that matrix is right" if right else "but it is not hat(a)^5"
+        return _fail(name, f"You gave a 3x3 matrix, {verdict}. The exercise asks for the "
+                           "number c itself.")
+    if arr.shape != ():
+        return _fail(name, f"The answer has shape {arr.shape}; it should be one number.", hint)
+    if not np.isfinite(arr):
+        return _fail(name, "The answer is NaN or inf.", hint)
+    x = float(arr)
+    if np.allclose(x * H, H5, rtol=1e-12, atol=0):
+        return Feedback(True, f"Correct: {name}. c hat(a) equals hat(a)^5 multiplied out.")
+    if np.allclose(-x * H, H5, rtol=1e-12, atol=0):
+        hint = ("Right size, wrong sign: each use of the Lemma brings a factor "
+                "-|a|^2, and you used it twice, so the two minus signs cancel.")
+    elif np.isclose(abs(x), n2):
+        hint = ("That is (up to sign) the factor of hat(a)^3 = -|a|^2 hat(a). Apply "
+                "the Lemma once more: hat(a)^5 = hat(a)^3 hat(a)^2.")
+    elif any(np.isclose(abs(x), v) for v in (n2 ** 1.5, n2 ** 2.5, n2 ** 4, n2 ** 5)):
+        hint = ("Check the power of |a|: hat(a)^(2k+1) = (-1)^k |a|^(2k) hat(a), and "
+                "5 = 2k + 1 gives k = 2, so the factor is |a|^4 = (|a|^2)^2.")
+    off = float(np.abs(x * H - H5).max())
+    return _fail(name, f"With c = {x:.6g}, c hat(a) differs from hat(a)^5 (multiplied out) "
+                       f"by {off:.3g} in its largest entry.", hint)
 
+
+# ---------------------------------------------------------------- exercise 1.3
 
 def _power_hint(p):
     if p == 0:
-        return ("hat(a)^0 is the identity I, so (c0, c1, c2) = (1, 0, 0). The formula for "
-                "even powers starts at p = 2; p = 0 would need k = -1.")
+        return ("hat(a)^0 is the identity I, by the definition of a matrix power; it is "
+                "not covered by the formula for even powers, which starts at p = 2 "
+                "(p = 0 would need k = -1).")
     k = (p - 1) // 2
     if p % 2:
         return (f"p = {p} is odd: p = 2k + 1 with k = {k}, so hat(a)^p = (-1)^k |a|^(2k) hat(a), "
@@ -153,17 +216,32 @@ def check_power_coefficients(func):
     r"""Exercise 1.3: ``func(a, p)`` must return ``(c0, c1, c2)`` with
     :math:`\hat a^p = c_0 I + c_1\hat a + c_2\hat a^2`.
 
-    Tries ``p = 1, 2, ..., 9`` and then ``p = 0`` for two vectors of different length,
-    and stops at the first wrong answer with a hint for that ``p``.
+    The defining property is tested directly: ``c0 I + c1 hat(a) + c2 hat(a)^2`` against
+    ``np.linalg.matrix_power(hat(a), p)``, relative to the size of the power, for
+    ``p = 1, ..., 12`` and then ``p = 0``, on two vectors of different length. It stops at
+    the first wrong answer with a hint for that ``p``.
     """
     name = "power_coefficients"
     vectors = (np.array([1.0, 2.0, 3.0]), np.array([0.5, -1.0, 0.25]))
-    order = list(range(1, 10)) + [0]
+    order = list(range(1, 13)) + [0]
     for p in order:
         for a in vectors:
-            fb = check_function(func, power_coefficients, [(a, p)], name,
-                                atol=1e-9, rtol=1e-9, hint=_power_hint(p))
-            if not fb:
+            shown = f"power_coefficients({np.array2string(a, separator=', ')}, {p})"
+            got, fb = _call(func, name, (a, p), shown, _power_hint(p))
+            if fb is not None:
                 return fb
-    return Feedback(True, f"Correct: {name}. It gives the right (c0, c1, c2) for "
-                          "p = 0, ..., 9 and two vectors a.")
+            problem = _shape_problem(got, (3,), f"On {shown}, the answer")
+            if problem:
+                return _fail(name, problem, "Return three numbers, (c0, c1, c2).")
+            c = np.asarray(got, dtype=float)
+            H = hat(a)
+            power = np.linalg.matrix_power(H, p)
+            combo = c[0] * np.eye(3) + c[1] * H + c[2] * (H @ H)
+            size = max(1.0, float(np.abs(power).max()))
+            off = float(np.abs(combo - power).max()) / size
+            if off > 1e-10:
+                return _fail(name, f"On {shown}, c0 I + c1 hat(a) + c2 hat(a)^2 differs from "
+                                   f"hat(a)^{p} (a matrix power) by {off:.2g} relative to "
+                                   "its largest entry.", _power_hint(p))
+    return Feedback(True, f"Correct: {name}. c0 I + c1 hat(a) + c2 hat(a)^2 equals the matrix "
+                          "power for p = 0, ..., 12 and two vectors a.")

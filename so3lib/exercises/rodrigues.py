@@ -5,31 +5,33 @@ exercise       the learner writes                          checker
 =============  ==========================================  ============================
 2.1            ``partial_sum(omega, tau, terms)``: the     :func:`check_partial_sum`
                first ``terms`` terms of the series
-2.2            ``R``, the rotation reached by              :func:`check_quarter_turn`
-               ``omega = (0, 0, pi/2)`` in ``tau = 1``
+2.2            ``t_8_digits``: the ``t`` at which the      :func:`check_naive_B_digits`
+               naive ``(1 - cos t)/t^2`` keeps only 8
+               correct digits (predicted, then measured)
 2.3            ``B_stable(t) = (1 - cos t)/t^2``,          :func:`check_B`
                accurate at every ``t``, ``B(0) = 1/2``
 =============  ==========================================  ============================
 
-Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises. When an
-answer is wrong, the checker compares it with the usual mistakes (one term too many,
-an element-by-element power, the notes' printed formula, the naive ``1 - cos``) and
-names the one it matches.
+Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises, and none
+prints the value it is looking for. 2.1 and 2.3 compare with the library's own
+``exp_series`` and ``B`` (the course's library, not an answer key); 2.2 measures the
+property asked for (the naive formula's error near the learner's ``t``, against a
+high-precision reference). When an answer is wrong, the checker compares it with the
+usual mistakes (one term too many, an element-by-element power, the naive ``1 - cos``,
+a Taylor polynomial used too far out) and names the one it matches.
 """
 
 import math
 
+import mpmath
 import numpy as np
 
 from ..series import B, exp_series
-from ..so3 import exp, hat
-from . import Feedback, check_function, check_value, never_raises
+from ..so3 import hat
+from . import Feedback, never_raises
+from .hat_map import _NOT_ANSWERED, _call, _fail, _shape_problem
 
-__all__ = ["check_partial_sum", "check_quarter_turn", "check_B"]
-
-#: The angular velocity and time of exercise 2.2.
-OMEGA_QUARTER = np.array([0.0, 0.0, np.pi / 2])
-TAU_QUARTER = 1.0
+__all__ = ["check_B", "check_naive_B_digits", "check_partial_sum"]
 
 
 def _close(got, alt, atol=1e-9, rtol=1e-9):
@@ -39,34 +41,8 @@ def _close(got, alt, atol=1e-9, rtol=1e-9):
         a = np.asarray(alt, dtype=float)
         return g.shape == a.shape and bool(np.isfinite(g).all()) and \
             bool(np.allclose(g, a, atol=atol, rtol=rtol))
-    except Exception:
+    except Exception:  # noqa: BLE001 -- a checker never raises
         return False
-
-
-def _with_hint(fb, hint):
-    """``fb`` with its hint replaced by ``hint`` (the generic hint is cut off)."""
-    message = fb.message.split("\nHint: ")[0]
-    return Feedback(False, f"{message}\nHint: {hint}")
-
-
-def _check_each(func, reference, inputs, name, atol, rtol, hint, diagnose):
-    """Like :func:`check_function`, but a wrong answer is passed to ``diagnose``.
-
-    ``diagnose(got, args)`` returns a more specific hint, or None. Returns the Feedback
-    of the first failing input, or None when every input passes.
-    """
-    for args in inputs:
-        fb = check_function(func, reference, [args], name, atol=atol, rtol=rtol, hint=hint)
-        if fb:
-            continue
-        try:
-            got = func(*[np.array(a, copy=True) if isinstance(a, np.ndarray) else a
-                         for a in args])
-            specific = diagnose(got, args)
-        except Exception:
-            specific = None
-        return _with_hint(fb, specific) if specific else fb
-    return None
 
 
 # ---------------------------------------------------------------- exercise 2.1
@@ -108,61 +84,112 @@ def check_partial_sum(func):
     r"""Exercise 2.1: ``func(omega, tau, terms)`` must equal :func:`so3lib.exp_series`.
 
     .. math:: S_N = \sum_{m=0}^{N-1} \frac{(\tau\hat\omega)^m}{m!}
+
+    A wrong sum gets the size of its difference and, where it matches one, the usual
+    mistake; never the right matrix.
     """
     name = "partial_sum"
-    fb = _check_each(func, exp_series, _SUM_INPUTS, name, 1e-10, 1e-10, _SUM_HINT,
-                     _diagnose_sum)
-    if fb is not None:
-        return fb
+    for omega, tau, terms in _SUM_INPUTS:
+        shown = f"partial_sum({np.array2string(omega, separator=', ')}, {tau:g}, {terms})"
+        got, fb = _call(func, name, (omega, tau, terms), shown, _SUM_HINT)
+        if fb is not None:
+            return fb
+        problem = _shape_problem(got, (3, 3), f"On {shown}, the answer")
+        if problem:
+            return _fail(name, problem, _SUM_HINT)
+        off = float(np.abs(np.asarray(got, dtype=float) - exp_series(omega, tau, terms)).max())
+        if off > 1e-10:
+            specific = _diagnose_sum(got, (omega, tau, terms))
+            return _fail(name, f"On {shown}, the sum is off by {off:.2g} in its largest entry.",
+                         specific or _SUM_HINT)
     return Feedback(True, f"Correct: {name}. It agrees with so3lib.exp_series on "
                           f"{len(_SUM_INPUTS)} test inputs, from 1 term to 9.")
 
 
 # ---------------------------------------------------------------- exercise 2.2
 
-@never_raises("the rotation reached by omega = (0, 0, pi/2) in tau = 1")
-def check_quarter_turn(answer):
-    r"""Exercise 2.2: the rotation :math:`R(\omega, \tau)` for ``omega = (0, 0, pi/2)``, ``tau = 1``.
+def _naive_B_error(ts):
+    """Relative error of the naive float64 ``(1 - cos t)/t^2`` at each ``t`` of ``ts``.
 
-    Recognises the transpose (the clockwise turn), the notes' printed formula without
-    the square (errata N1), an element-by-element ``np.exp`` and degrees for radians.
+    The reference is the same formula in mpmath, with 30 digits beyond the ones the
+    subtraction cancels (about ``-2 log10 t``), rounded once.
     """
-    name = "the rotation reached by omega = (0, 0, pi/2) in tau = 1"
-    expected = exp(OMEGA_QUARTER, TAU_QUARTER)
-    W = hat(OMEGA_QUARTER)
-    w = float(np.linalg.norm(OMEGA_QUARTER))
-    th = w * TAU_QUARTER
-    printed = np.eye(3) + W / w * math.sin(th) + W / w ** 2 * (1 - math.cos(th))
-    hint = ("theta = |omega| tau = pi/2 and n = (0, 0, 1), so sin(theta) = 1 and "
-            "1 - cos(theta) = 1: R = I + hat(n) + hat(n)^2. The x axis must go to the y axis, "
-            "so the first column of R is (0, 1, 0).")
-    if _close(answer, expected.T):
-        hint = ("That is the turn in the wrong direction (the transpose). A positive angle "
-                "about +z turns the x axis towards the y axis: R @ (1, 0, 0) = (0, 1, 0).")
-    elif _close(answer, printed):
-        hint = ("That is the notes' printed last line, whose third term has hat(omega) "
-                "where hat(omega)^2 belongs (errata N1). Square it and try again.")
-    elif _close(answer, np.exp(W * TAU_QUARTER)):
-        hint = ("np.exp works entry by entry; it is not the matrix exponential. Use "
-                "Rodrigues' formula, so3lib.exp or scipy.linalg.expm.")
-    elif _close(answer, exp(np.degrees(OMEGA_QUARTER), TAU_QUARTER)):
-        hint = "Angles are in radians: the angular velocity is pi/2 rad/s, not 90."
-    return check_value(answer, expected, name, atol=1e-8, rtol=1e-8, hint=hint)
+    ts = np.asarray(ts, dtype=float)
+    with np.errstate(all="ignore"):
+        naive = (1.0 - np.cos(ts)) / ts ** 2
+    errors = np.empty_like(ts)
+    for i, t in enumerate(ts):
+        digits = 30 + max(0, int(-2 * math.log10(t)))
+        with mpmath.workdps(digits):
+            m = mpmath.mpf(float(t))
+            ref = float((1 - mpmath.cos(m)) / m ** 2)
+        errors[i] = abs(naive[i] - ref) / ref
+    return errors
+
+
+#: What "keeps only 8 digits" means to the checker: the worst relative error of the naive
+#: B over the window [t/1.25, 1.25 t] lies between 10^-8.5 and 10^-7.5.
+DIGITS_WINDOW = 1.25
+DIGITS_BAND = (10 ** -8.5, 10 ** -7.5)
+
+_DIGITS_HINT = ("Predict first: cos t is rounded to a float, off by up to half a spacing "
+                "(eps/4 just below 1), and 1 - cos t is about t^2/2. So the relative error "
+                "of (1 - cos t)/t^2 is about (eps/4)/(t^2/2). Set that to 1e-8 and solve for t; "
+                "then measure with B_ref around your t.")
+
+
+@never_raises("t_8_digits")
+def check_naive_B_digits(answer):
+    r"""Exercise 2.2: the ``t`` near which the naive :math:`(1 - \cos t)/t^2` keeps 8 digits.
+
+    Measures the property itself: the worst relative error of the naive formula in float64
+    over 201 points of ``[t/1.25, 1.25 t]``, against a high-precision reference, must lie
+    within half a digit of ``1e-8`` (between ``10^-8.5`` and ``10^-7.5``). The message says
+    how many digits the naive formula keeps at the learner's ``t``.
+    """
+    name = "t_8_digits"
+    if answer is None or answer is Ellipsis:
+        return _fail(name, _NOT_ANSWERED)
+    try:
+        t = float(np.asarray(answer, dtype=float))
+    except Exception:  # noqa: BLE001 -- a checker never raises
+        return _fail(name, f"The answer should be one number t; got a {type(answer).__name__}.",
+                     _DIGITS_HINT)
+    if not math.isfinite(t) or t <= 0:
+        return _fail(name, f"t should be a positive angle in radians; got {t!r}.", _DIGITS_HINT)
+    if t > 1.0:
+        return _fail(name, f"At t = {t:.3g} the naive formula is accurate to about 16 digits: "
+                           "no cancellation there. Look at small t.", _DIGITS_HINT)
+    if t < 1e-9:
+        return _fail(name, f"At t = {t:.3g}, cos t rounds to exactly 1 and the naive formula "
+                           "returns 0: no correct digit left. Look at larger t.", _DIGITS_HINT)
+    worst = float(_naive_B_error(np.geomspace(t / DIGITS_WINDOW, t * DIGITS_WINDOW, 201)).max())
+    digits = -math.log10(worst) if worst > 0 else 17.0
+    lo, hi = DIGITS_BAND
+    if lo <= worst <= hi:
+        return Feedback(True, f"Correct: {name}. Near t = {t:.3g} the naive B's worst relative "
+                              f"error is {worst:.1e}: about {digits:.1f} correct digits.")
+    side = ("more than 8 digits survive there: the t is too large"
+            if worst < lo else "fewer than 8 digits survive there: the t is too small")
+    return _fail(name, f"Near t = {t:.3g} the naive B's worst relative error is {worst:.1e} "
+                       f"(about {digits:.1f} correct digits): {side}.", _DIGITS_HINT)
 
 
 # ---------------------------------------------------------------- exercise 2.3
 
 # Simplest first; the small angles come before t = 0 so that the naive formula is caught
-# by its visible failure (0 instead of 0.5 at 1e-8) before its division by zero.
-_B_INPUTS = [(1.0,), (2.5,), (-0.5,), (1e-8,), (1e-5,), (1e-3,), (0.0,), (30.0,)]
+# by its visible failure (0 instead of 0.5 at 1e-8) before its division by zero; the
+# middle range (1e-3 to 0.45) catches a Taylor polynomial used too far out.
+_B_INPUTS = [1.0, 2.5, -0.5, 1e-8, 1e-5, 1e-3, 0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.45,
+             -0.7, 1e-300, 30.0]
+_B_RTOL = 1e-12
 
 _B_HINT = ("Avoid the subtraction 1 - cos(t) for small t: use the half-angle form "
-           "2 sin(t/2)^2 / t^2, and return the limit 1/2 at t = 0 (or the Taylor form "
-           "1/2 - t^2/24 for |t| < 1e-4).")
+           "2 sin(t/2)^2 / t^2, and return the limit 1/2 at t = 0 (a Taylor polynomial "
+           "is fine too, but only where its first left-out term is below 1e-12 of B).")
 
 
-def _diagnose_B(got, args):
-    (t,) = args
+def _diagnose_B(got, t):
     with np.errstate(all="ignore"):
         t64 = np.float64(t)
         naive = (1.0 - np.cos(t64)) / t64 ** 2
@@ -172,9 +199,11 @@ def _diagnose_B(got, args):
         return ("This is the naive (1 - cos t)/t^2. Near t = 0, cos(t) rounds to a number "
                 "next to 1 and the subtraction cancels almost every digit (at t = 1e-8 it "
                 "gives 0). " + _B_HINT)
-    if abs(t) >= 0.5 and (_close(got, taylor) or _close(got, taylor3)):
-        return ("A Taylor polynomial is accurate only near t = 0. Use it for small |t| "
-                "and the closed form elsewhere.")
+    if t != 0 and (_close(got, taylor, atol=0, rtol=1e-15) or
+                   _close(got, taylor3, atol=0, rtol=1e-15)):
+        return ("A Taylor polynomial here: its error is about its first left-out term, "
+                "t^4/720 for 1/2 - t^2/24 (relative t^4/360), which is above 1e-12 once "
+                "|t| > 4e-3. Use it only below that, and the half-angle form elsewhere.")
     if t != 0 and _close(got, math.sin(t) / t):
         return "That is A(t) = sin(t)/t, the other coefficient. B(t) = (1 - cos t)/t^2."
     if t != 0 and _close(got, (1 - math.cos(t)) / t):
@@ -186,11 +215,25 @@ def _diagnose_B(got, args):
 def check_B(func):
     r"""Exercise 2.3: ``func(t)`` must give :math:`B(t) = (1 - \cos t)/t^2` to 1e-12 relative.
 
-    Tries ``t`` from 1 down to 1e-8, then ``t = 0`` (where ``B = 1/2``) and ``t = 30``.
+    Compares with the library's ``so3lib.B`` at ``t`` from 1 down to 1e-8, then ``t = 0``
+    (where ``B = 1/2``), the middle range 0.01 to 0.45 (where a Taylor polynomial kept
+    too long fails), ``1e-300`` and ``t = 30``. A wrong value gets its relative error and
+    the usual mistake it matches.
     """
     name = "B_stable"
-    fb = _check_each(func, B, _B_INPUTS, name, 1e-15, 1e-12, _B_HINT, _diagnose_B)
-    if fb is not None:
-        return fb
+    for t in _B_INPUTS:
+        shown = f"B_stable({t:g})"
+        got, fb = _call(func, name, (t,), shown, _B_HINT)
+        if fb is not None:
+            return fb
+        problem = _shape_problem(got, (), f"{shown}")
+        if problem:
+            return _fail(name, problem, "Return one float.")
+        ref = float(B(t))
+        rel = abs(float(got) - ref) / ref
+        if rel > _B_RTOL:
+            return _fail(name, f"{shown} has a relative error of {rel:.1e}; the exercise asks "
+                               f"for {_B_RTOL:.0e}.", _diagnose_B(got, t) or _B_HINT)
     return Feedback(True, f"Correct: {name}. It is accurate to 1e-12 (relative) at "
-                          "t = 0, 1e-8, ..., 30.")
+                          f"{len(_B_INPUTS)} values of t, from 0 and 1e-300 through the middle "
+                          "range to 30.")

@@ -230,132 +230,125 @@ class OfflineDeck:
         self.context.close()
 
 
-# Runs in the page: the slides as (h, v) pairs.
-SLIDE_INDICES_JS = """() => Reveal.getSlides().map(s => { const i = Reveal.getIndices(s);
-  return [i.h, i.v || 0]; })"""
-
-# Runs in the page on the current slide, every fragment shown: what is on it and how it sits.
+# Runs in the page: every slide measured where it lies (the deck keeps every slide laid out,
+# viewDistance 99; fragments not yet shown are laid out too), in Reveal.getSlides() order.
 MEASURE_JS = r"""
 () => {
-  const slide = Reveal.getCurrentSlide();
   const slidesEl = document.querySelector('.reveal .slides');
-  const box = slidesEl.getBoundingClientRect();
-  const scale = box.width / slidesEl.offsetWidth;        // screen px per design px
-  const vw = window.innerWidth, vh = window.innerHeight;
+  const deckBox = slidesEl.getBoundingClientRect();
+  const scale = deckBox.width / slidesEl.offsetWidth;        // screen px per design px
+  const W = slidesEl.offsetWidth * scale, H = slidesEl.offsetHeight * scale;
   const inNotes = el => !!el.closest('aside.notes');
-  const shown = el => { const r = el.getBoundingClientRect(); return r.width > 0 && r.height > 0
-    && getComputedStyle(el).visibility !== 'hidden'; };
+  const laidOut = el => { const r = el.getBoundingClientRect(); return r.width > 0 && r.height > 0; };
   const label = el => { let s = el.tagName.toLowerCase();
     if (el.className && typeof el.className === 'string') s += '.' + el.className.trim().split(/\s+/)[0];
-    const t = (el.innerText || el.getAttribute('alt') || '').trim().replace(/\s+/g, ' ');
+    const t = (el.innerText || el.textContent || el.getAttribute('alt') || '').trim().replace(/\s+/g, ' ');
     return t ? `${s} "${[...t].slice(0, 40).join('')}"` : s; };
-  const heading = slide.querySelector('h1, h2, h3, h4');
-  // prose: rendered markdown, each inline formula one word, display formulas none
-  let words = 0;
-  slide.querySelectorAll('.jp-RenderedMarkdown').forEach(md => {
-    if (inNotes(md)) return;
-    const c = md.cloneNode(true);
-    c.querySelectorAll('mjx-container').forEach(m =>
-      m.replaceWith(m.getAttribute('display') === 'true' ? ' ' : ' x '));
-    c.querySelectorAll('style, script, a.anchor-link').forEach(e => e.remove());
-    words += (c.textContent.match(/[\p{L}\p{N}][\p{L}\p{N}'’\-.]*/gu) || []).length;
-  });
-  const codes = [...slide.querySelectorAll('.jp-InputArea pre')].filter(e => !inNotes(e));
-  const codeLines = codes.map(p => p.querySelectorAll('.cl').length
-    || p.textContent.replace(/\n+$/, '').split('\n').length).reduce((a, b) => a + b, 0);
-  const longest = Math.max(0, ...codes.flatMap(p => p.textContent.split('\n').map(l => l.length)));
-  const outs = [...slide.querySelectorAll('.jp-OutputArea-output pre')].filter(e => !inNotes(e));
-  const outLines = outs.map(p => p.textContent.replace(/\n+$/, '').split('\n').length)
-    .reduce((a, b) => a + b, 0);
-  // smallest font on screen, prose and code, over elements that hold text themselves
-  let prosePx = null, codePx = null, proseAt = '', codeAt = '';
-  for (const el of slide.querySelectorAll('*')) {
-    if (inNotes(el) || el.closest('mjx-container, svg, style, script, sup, sub')) continue;
-    if (![...el.childNodes].some(n => n.nodeType === 3 && n.textContent.trim())) continue;
-    if (!shown(el)) continue;
-    const px = parseFloat(getComputedStyle(el).fontSize) * scale;
-    if (el.closest('pre, code, .jp-OutputArea-output')) {
-      if (codePx === null || px < codePx) { codePx = px; codeAt = label(el); }
-    } else if (prosePx === null || px < prosePx) { prosePx = px; proseAt = label(el); }
-  }
-  // anything outside the slide or the window, or clipped inside a box that would scroll
-  const problems = [];
-  for (const el of slide.querySelectorAll('*')) {
-    if (inNotes(el) || el.closest('mjx-container svg *, mjx-assistive-mml, style, script') || !shown(el)) continue;
-    const r = el.getBoundingClientRect();
-    const out = r.left < box.left - 1 || r.top < box.top - 1 || r.right > box.right + 1
-      || r.bottom > box.bottom + 1 || r.right > vw + 1 || r.bottom > vh + 1 || r.left < -1 || r.top < -1;
-    if (out && !problems.some(p => p.el.contains(el))) {
-      const below = Math.round(Math.max(r.bottom - box.bottom, r.right - box.right,
-        box.left - r.left, box.top - r.top));
-      problems.push({el, what: `outside the slide by ${below} px: ${label(el)}`});
+  return Reveal.getSlides().map(slide => {
+    const idx = Reveal.getIndices(slide);
+    const sr = slide.getBoundingClientRect();
+    const box = {left: sr.left, top: sr.top, right: sr.left + W, bottom: sr.top + H};
+    const heading = slide.querySelector('h1, h2, h3, h4');
+    // prose: rendered markdown, each inline formula one word, display formulas none
+    let words = 0;
+    slide.querySelectorAll('.jp-RenderedMarkdown').forEach(md => {
+      if (inNotes(md)) return;
+      const c = md.cloneNode(true);
+      c.querySelectorAll('mjx-container').forEach(m =>
+        m.replaceWith(m.getAttribute('display') === 'true' ? ' ' : ' x '));
+      c.querySelectorAll('style, script, a.anchor-link').forEach(e => e.remove());
+      words += (c.textContent.match(/[\p{L}\p{N}][\p{L}\p{N}'’\-.]*/gu) || []).length;
+    });
+    const codes = [...slide.querySelectorAll('.jp-InputArea pre')].filter(e => !inNotes(e));
+    const codeLines = codes.map(p => p.querySelectorAll('.cl').length
+      || p.textContent.replace(/\n+$/, '').split('\n').length).reduce((a, b) => a + b, 0);
+    const longest = Math.max(0, ...codes.flatMap(p => p.textContent.split('\n').map(l => l.length)));
+    const outs = [...slide.querySelectorAll('.jp-OutputArea-output pre')].filter(e => !inNotes(e));
+    const outLines = outs.map(p => p.textContent.replace(/\n+$/, '').split('\n').length)
+      .reduce((a, b) => a + b, 0);
+    // smallest font on screen, prose and code, over elements that hold text themselves
+    let prosePx = null, codePx = null, proseAt = '', codeAt = '';
+    const problems = [], seen = [];
+    for (const el of slide.querySelectorAll('*')) {
+      if (inNotes(el) || el.closest('mjx-container svg *, mjx-assistive-mml, style, script')) continue;
+      if (!laidOut(el)) continue;
+      if (!el.closest('mjx-container, svg, sup, sub')
+          && [...el.childNodes].some(n => n.nodeType === 3 && n.textContent.trim())) {
+        const px = parseFloat(getComputedStyle(el).fontSize) * scale;
+        if (el.closest('pre, code, .jp-OutputArea-output')) {
+          if (codePx === null || px < codePx) { codePx = px; codeAt = label(el); }
+        } else if (prosePx === null || px < prosePx) { prosePx = px; proseAt = label(el); }
+      }
+      // anything outside the slide, or clipped inside a box that would scroll
+      if (seen.some(p => p.contains(el))) continue;
+      const r = el.getBoundingClientRect();
+      const by = Math.max(r.bottom - box.bottom, r.right - box.right, box.left - r.left, box.top - r.top);
+      if (by > 1) {
+        problems.push(`outside the slide by ${Math.round(by)} px: ${label(el)}`); seen.push(el); continue;
+      }
+      const cs = getComputedStyle(el);
+      if ((el.scrollHeight > el.clientHeight + 2 && /auto|scroll|hidden/.test(cs.overflowY)) ||
+          (el.scrollWidth > el.clientWidth + 2 && /auto|scroll|hidden/.test(cs.overflowX))) {
+        problems.push(`cut off inside its box (needs a scroll): ${label(el)}`); seen.push(el);
+      }
     }
-    const cs = getComputedStyle(el);
-    if ((el.scrollHeight > el.clientHeight + 2 && /auto|scroll|hidden/.test(cs.overflowY)) ||
-        (el.scrollWidth > el.clientWidth + 2 && /auto|scroll|hidden/.test(cs.overflowX)))
-      if (!el.closest('mjx-assistive-mml') && !problems.some(p => p.el.contains(el)))
-        problems.push({el, what: `cut off inside its box (needs a scroll): ${label(el)}`});
-  }
-  const figures = [...slide.querySelectorAll('img, .jp-RenderedSVG svg, .plotly-graph-div, canvas')]
-    .filter(e => !inNotes(e) && shown(e)).map(e => { const r = e.getBoundingClientRect();
-      return {w: Math.round(r.width), h: Math.round(r.height),
-              big: r.width >= 0.5 * box.width - 1 || r.height >= 0.5 * box.height - 1,
-              alt: e.tagName === 'IMG' ? (e.getAttribute('alt') || '') : (e.getAttribute('aria-label') || '-')}; });
-  const notes = [...slide.querySelectorAll('aside.notes')];
-  const noteMath = notes.flatMap(n => [...n.querySelectorAll('mjx-container')]);
-  return {
-    headline: heading ? heading.textContent.replace(/¶/g, '').trim() : '',
-    words, code_lines: codeLines, longest_code_line: longest, output_lines: outLines,
-    prose_px: prosePx && Math.round(prosePx * 10) / 10, prose_at: proseAt,
-    code_px: codePx && Math.round(codePx * 10) / 10, code_at: codeAt,
-    problems: problems.map(p => p.what), figures,
-    math: slide.querySelectorAll('mjx-container').length,
-    math_errors: slide.querySelectorAll('mjx-merror, [data-mjx-error]').length,
-    notes_words: notes.map(n => n.textContent.trim().split(/\s+/).filter(Boolean).length)
-      .reduce((a, b) => a + b, 0),
-    notes_math: noteMath.length,
-    scale: Math.round(scale * 1000) / 1000,
-  };
+    const figures = [...slide.querySelectorAll('img, .jp-RenderedSVG svg, .plotly-graph-div, canvas')]
+      .filter(e => !inNotes(e) && laidOut(e)).map(e => { const r = e.getBoundingClientRect();
+        return {w: Math.round(r.width), h: Math.round(r.height),
+                big: r.width >= 0.5 * W - 1 || r.height >= 0.5 * H - 1,
+                alt: e.tagName === 'IMG' ? (e.getAttribute('alt') || '') : (e.getAttribute('aria-label') || '-')}; });
+    const notes = [...slide.querySelectorAll('aside.notes')];
+    return {
+      h: idx.h, v: idx.v || 0,
+      headline: heading ? heading.textContent.replace(/¶/g, '').trim() : '',
+      words, code_lines: codeLines, longest_code_line: longest, output_lines: outLines,
+      prose_px: prosePx && Math.round(prosePx * 10) / 10, prose_at: proseAt,
+      code_px: codePx && Math.round(codePx * 10) / 10, code_at: codeAt,
+      problems, figures,
+      math: slide.querySelectorAll('mjx-container').length,
+      math_errors: slide.querySelectorAll('mjx-merror, [data-mjx-error]').length,
+      notes_words: notes.map(n => n.textContent.trim().split(/\s+/).filter(Boolean).length)
+        .reduce((a, b) => a + b, 0),
+      notes_math: notes.reduce((a, n) => a + n.querySelectorAll('mjx-container').length, 0),
+      scale: Math.round(scale * 1000) / 1000,
+    };
+  });
 }
 """
 
-OVERFLOW_JS = MEASURE_JS  # the same walk; at the other screen sizes only 'problems' is read
-
 
 def goto(page, h, v):
-    """Show slide (h, v) with every fragment, the figures grown to fit, laid out."""
+    """Show slide (h, v) with every fragment."""
     page.evaluate("([h, v]) => { Reveal.slide(h, v); while (Reveal.nextFragment()) {} }", [h, v])
     page.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
 
 
 def measure(deck, browser, screenshots=None, screens=SCREENS):
-    """Every slide of DECK measured in Chromium: a list of dicts (see MEASURE_JS), plus
-    'h', 'v', 'shot', and 'problems_at' {"WxH": [...]} for the other screen sizes; and
-    the deck's blocked requests and page errors."""
-    main = OfflineDeck(browser, deck, *screens[0])
-    page = main.ready()
-    indices = page.evaluate(SLIDE_INDICES_JS)
-    slides = []
+    """Every slide of DECK measured in Chromium: a list of dicts (see MEASURE_JS) with
+    'problems_at' {"WxH": [...]} at each screen size (and 'shot', the screenshot's path,
+    when SCREENSHOTS is a folder); and the deck's blocked requests and page errors."""
+    d = OfflineDeck(browser, deck, *screens[0])
+    page = d.ready()
+    slides = page.evaluate(MEASURE_JS)
+    for m in slides:
+        m["problems_at"] = {f"{screens[0][0]}x{screens[0][1]}": m["problems"]}
+    for w, h in screens[1:]:
+        page.set_viewport_size({"width": w, "height": h})
+        page.evaluate("() => new Promise(r => { Reveal.layout(); requestAnimationFrame(r); })")
+        for m, again in zip(slides, page.evaluate(MEASURE_JS), strict=True):
+            m["problems_at"][f"{w}x{h}"] = again["problems"]
     if screenshots:
+        page.set_viewport_size({"width": screens[0][0], "height": screens[0][1]})
+        page.evaluate("() => Reveal.layout()")
         Path(screenshots).mkdir(parents=True, exist_ok=True)
         for old in Path(screenshots).glob("*.png"):
             old.unlink()
-    for h, v in indices:
-        goto(page, h, v)
-        m = page.evaluate(MEASURE_JS)
-        m.update(h=h, v=v, problems_at={f"{screens[0][0]}x{screens[0][1]}": m["problems"]})
-        if screenshots:
-            m["shot"] = str(Path(screenshots) / f"{len(slides) + 1:02d}_{h}-{v}.png")
-            page.screenshot(path=m["shot"])
-        slides.append(m)
-    for w, hgt in screens[1:]:
-        page.set_viewport_size({"width": w, "height": hgt})
-        page.evaluate("() => Reveal.layout()")
-        for m in slides:
+        for k, m in enumerate(slides, 1):
             goto(page, m["h"], m["v"])
-            m["problems_at"][f"{w}x{hgt}"] = page.evaluate(OVERFLOW_JS)["problems"]
-    result = {"slides": slides, "blocked": list(main.blocked), "errors": list(main.errors)}
-    main.close()
+            m["shot"] = str(Path(screenshots) / f"{k:02d}_{m['h']}-{m['v']}.png")
+            page.screenshot(path=m["shot"])
+    result = {"slides": slides, "blocked": list(d.blocked), "errors": list(d.errors)}
+    d.close()
     return result
 
 

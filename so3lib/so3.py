@@ -28,8 +28,6 @@ J. Sola, J. Deray, D. Atchuthan, "A micro Lie theory for state estimation in rob
 surjectivity of exp).
 """
 
-import math
-
 import numpy as np
 
 from .validation import (ROTATION_TOL, as_matrices, as_times, as_tolerance, as_vectors,
@@ -37,21 +35,16 @@ from .validation import (ROTATION_TOL, as_matrices, as_times, as_tolerance, as_v
 
 __all__ = ["hat", "vee", "exp", "log", "angle", "is_rotation", "random_rotation"]
 
-# Batches are computed in blocks of _BLOCK rotations: the temporaries of a block (32 kB
-# each) stay in the processor's cache, and the extra memory of a call stays well below
-# the size of its result. Up to _FEW rotations are computed in plain floats, which is
-# quicker than NumPy's overhead per call; both paths give the same bits.
+# Batches are computed in blocks of _BLOCK rotations by one kernel per function: the
+# temporaries of a block (a few hundred kB) stay in the processor's cache, and the extra
+# memory of a call stays well below the size of its result. One rotation is a block of
+# one, so it takes the very same steps and gets the same bits as inside a batch.
 _BLOCK = 4096
-_FEW = 8
 
 # Squared lengths between these bounds are formed as x*x + y*y + z*z without underflow or
-# overflow; rotation vectors outside (|phi| < 1e-145 or > 1e145, and phi = 0) take the
-# careful branches. Below 1e-145 the Taylor series of A and B stops at its first term:
-# the next is below 1e-290 relative (spec S10).
+# overflow; vectors outside take the careful branches (hypot, or exp's unit-axis form
+# above |phi| = 1e145, where B = (1 - cos theta)/theta^2 would leave the normal floats).
 _SQ_LO, _SQ_HI = 1e-290, 1e290
-
-# |phi_i| below this bound cannot overflow |phi| (sqrt(3) * 1e300 < 1.8e308).
-_PHI_SAFE = 1e300
 
 
 def hat(v):
@@ -140,23 +133,25 @@ def exp(omega, tau=1.0):
     Notes
     -----
     Accurate to a few units of ``eps * max(1, theta)`` at every angle (spec S23;
-    the factor ``theta`` is the conditioning of the problem, spec S11):
+    the factor ``theta`` is the conditioning of the problem, spec S11).
 
-    * ``1e-145 <= theta <= 1e145``: one tangent gives both coefficients. With
-      ``t = tan(theta/2)``, ``sin(theta) = 2t / (1 + t^2)`` and
-      ``1 - cos(theta) = 2 sin^2(theta/2) = t sin(theta)``, so ``A = sin(theta)/theta``
-      and ``B = A t / theta``. Nothing cancels: not at small angles, unlike the naive
-      ``(1 - cos t)/t^2`` (notebook 02, "Small angles"), and not near ``theta = pi``,
-      where ``t`` is large and ``2t / (1 + t^2)`` stays exact;
-    * ``theta < 1e-145``: ``A = 1``, ``B = 1/2``, the Taylor series (spec S10), whose next
-      terms are below 1e-290;
-    * ``theta > 1e145``: the unit-axis form ``I + sin(t) hat(n) + 2 sin^2(t/2) hat(n)^2``,
-      so ``hat(phi)^2`` cannot overflow.
+    One tangent gives both coefficients, at every angle up to ``theta = 1e145``: with
+    ``h = theta/2`` and ``t = tan(h)``, ``sin(theta) = 2t / (1 + t^2)`` and
+    ``1 - cos(theta) = t sin(theta)``, so
 
-    ``hat(u)^2 = u u^T - |u|^2 I`` (the Lemma) is written out entry by entry, with the
-    diagonal as ``1 - b (u_j^2 + u_k^2)`` so that nothing cancels. A batch is computed in
-    blocks of a few thousand rotations and a few rotations in plain floats, with the same
-    formulas and the same bits.
+    .. math:: A = \frac{t/h}{1 + t^2}, \qquad B = \frac{A\,(t/h)}{2}.
+
+    Nothing cancels: not at small angles, where ``t/h`` tends to 1 and ``A`` and ``B``
+    to 1 and 1/2 with no Taylor branch (``theta^2`` is raised to 1e-300 first, so
+    ``phi = 0`` gives ``I``), unlike the naive ``(1 - cos t)/t^2`` (notebook 02, "Small
+    angles"); and not near ``theta = pi``, where ``t`` is large and ``A`` stays exact.
+    Above ``theta = 1e145``, where ``B`` would leave the normal floats, the unit-axis
+    form ``I + sin(theta) hat(n) + (1 - cos(theta)) hat(n)^2`` is used instead.
+
+    The matrix is ``B phi phi^T + A hat(phi) + cos(theta) I`` (the Lemma
+    ``hat(phi)^2 = phi phi^T - theta^2 I``), with ``cos(theta) = 1 - B theta^2``. A
+    batch is computed in blocks of a few thousand rotations by one kernel
+    (:func:`_exp_block`), for one rotation as for a million.
     """
     omega = as_vectors(omega, 3, "omega", "exp")
     tau = as_times(tau, "exp")
@@ -167,136 +162,117 @@ def exp(omega, tau=1.0):
         with np.errstate(over="ignore"):        # overflow is reported below
             phi, scale = omega * tau[..., None], 1.0
     rows = phi.reshape(-1, 3)
-    if len(rows) <= _FEW:
-        R = [_exp_one(scale * x, scale * y, scale * z) for x, y, z in rows.tolist()]
-        if None not in R:
-            return np.array(R).reshape(batch + (3, 3))
-    if not _largest_abs(phi) * abs(scale) <= _PHI_SAFE:   # rare: check the careful way
-        _check_rotation_vectors(omega, tau)
-
     R = np.empty(batch + (3, 3))
-    out = R.reshape(-1, 3, 3)
+    out = R.reshape(-1, 9)                      # each matrix as a row of nine entries
     for i in range(0, len(rows), _BLOCK):
-        _exp_block(rows[i:i + _BLOCK], scale, out[i:i + _BLOCK])
+        if not _exp_block(rows[i:i + _BLOCK], scale, out[i:i + _BLOCK]):
+            _check_rotation_vectors(omega, tau)     # raises if omega * tau overflows
+            _exp_huge_block(rows[i:i + _BLOCK], scale, out[i:i + _BLOCK])
     return R
-
-
-def _largest_abs(a):
-    """``max |a_i|`` over all entries (0 for an empty array), without a temporary array."""
-    if a.size <= 3:
-        return max(map(abs, a.ravel().tolist()), default=0.0)
-    return max(float(a.max()), -float(a.min()))
 
 
 def _check_rotation_vectors(omega, tau):
     """Raise ValueError if ``phi = omega * tau`` or its length overflows float64."""
     with np.errstate(over="ignore", invalid="ignore"):
         phi = omega * tau[..., None]
-        if not np.isfinite(phi).all():
-            raise ValueError("exp: the rotation vector omega * tau overflows float64; "
-                             "expected |omega * tau| below about 1e308")
+        bad = ~np.isfinite(phi).all(axis=-1)
+        if bad.any():
+            idx = tuple(int(i) for i in np.argwhere(bad)[0])
+            raise ValueError(f"exp: the rotation vector omega * tau overflows float64"
+                             f"{' at index ' + _index(idx) if idx else ''}; expected "
+                             f"|omega * tau| below about 1e308")
         theta, _ = _angle_and_axis(phi)
     if not np.isfinite(theta).all():
         raise ValueError("exp: the rotation angle |omega * tau| overflows float64; "
                          "expected an angle below about 1e308")
 
 
+def _index(idx):
+    return "[" + ", ".join(map(str, idx)) + "]"
+
+
 def _coefficients(theta2):
-    """``A = sin(theta)/theta`` and ``B = (1 - cos theta)/theta^2`` from ``theta^2``.
+    r"""``A = sin(theta)/theta`` and ``B = (1 - cos(theta))/theta^2`` from ``theta^2``.
 
-    One tangent, ``t = tan(theta/2)``, gives both: ``sin(theta) = 2t/(1 + t^2)`` and
-    ``1 - cos(theta) = t sin(theta)``. For a float or an array alike: NumPy's tan of one
-    number equals its tan of that number inside an array, so one rotation and a batch
-    get the same bits.
+    One tangent gives both (notebook 02): with ``h = theta/2``, ``t = tan(h)`` and
+    ``g = t/h``, ``A = g / (1 + t^2)`` and ``B = A g / 2``. ``theta^2`` is raised to
+    1e-300 first: below that ``g = 1`` exactly, so ``A = 1`` and ``B = 1/2``, the
+    Taylor values (spec S10), and ``theta = 0`` divides nothing by zero.
     """
-    theta = np.sqrt(theta2)
-    t = np.tan(0.5 * theta)
-    a = (t + t) / (1.0 + t * t) / theta
-    return a, a * t / theta
+    h = np.sqrt(np.maximum(theta2, 1e-300))
+    h *= 0.5
+    t = np.tan(h)
+    g = t / h                                   # tan(h)/h, 1 at h = 0
+    den = t * t
+    den += 1.0                                  # 1 + t^2 = 1/cos^2(h)
+    A = g / den
+    B = A * g
+    B *= 0.5
+    return A, B
 
 
-def _rodrigues_entries(x, y, z, a, b):
-    r"""The nine entries, row by row, of :math:`I + a\,\hat u + b\,\hat u^2`, ``u = (x, y, z)``.
+# c I + hat(a) entry by entry, row by row: entry k is _SIGN[k] * (a_x, a_y, a_z, c)[_PICK[k]].
+_PICK = np.array([3, 2, 1, 2, 3, 0, 1, 0, 3])
+_SIGN = np.array([1.0, -1.0, 1.0, 1.0, 1.0, -1.0, -1.0, 1.0, 1.0])[:, None]
 
-    :math:`\hat u^2 = u u^T - \lVert u\rVert^2 I` (the Lemma), so the diagonal is
-    ``1 - b (u_j^2 + u_k^2)`` (nothing cancels) and the entry ``(i, j)`` off it is
-    ``b u_i u_j`` plus or minus ``a u_k``. In floats, for a few rotations;
-    :func:`_exp_block` writes the same lines into a block of matrices.
+
+def _rodrigues(p, A, B, c, out):
+    r"""``out = B p p^T + A hat(p) + c I``, each matrix as a row of nine entries.
+
+    ``p`` has shape (3, m) (the components of m vectors), ``A``, ``B``, ``c`` shape (m,);
+    with ``c = 1 - B |p|^2`` this is Rodrigues' formula
+    :math:`I + A\hat p + B\hat p^2` (the Lemma :math:`\hat p^2 = pp^T - |p|^2 I`).
     """
-    xx, yy, zz = x * x, y * y, z * z
-    bx, by = b * x, b * y
-    bxy, bxz, byz = bx * y, bx * z, by * z
-    ax, ay, az = a * x, a * y, a * z
-    return (1.0 - b * (yy + zz), bxy - az, bxz + ay,
-            bxy + az, 1.0 - b * (xx + zz), byz - ax,
-            bxz - ay, byz + ax, 1.0 - b * (xx + yy))
+    outer = np.multiply((B * p)[:, None, :], p).reshape(9, -1)    # B p_i p_j
+    terms = np.empty((4, p.shape[1]))
+    np.multiply(A, p, out=terms[:3])
+    terms[3] = c
+    outer += terms.take(_PICK, axis=0) * _SIGN
+    out[...] = outer.T
 
 
-def _exp_one(x, y, z):
-    """The nine entries of ``exp(hat(phi))`` for one ``phi = (x, y, z)``, in floats;
-    None when ``|phi| > 1e145`` or overflows (the block kernel then takes it)."""
-    theta2 = x * x + y * y + z * z
-    if theta2 > _SQ_HI:
-        return None
-    if theta2 < _SQ_LO:
-        a, b = 1.0, 0.5                         # Taylor: A = 1 - theta^2/6, B = 1/2 - ...
+def _exp_block(rows, scale, out):
+    r"""``out = exp(hat(scale * phi))`` for a block of rotation vectors, ``rows`` (m, 3).
+
+    Returns False, computing nothing, when some ``|phi|`` exceeds 1e145 or is not finite
+    (:func:`_exp_huge_block` takes those): the test comes first, in plain floats, so
+    that nothing overflows or warns on the way.
+    """
+    theta2 = np.einsum("ij,ij->i", rows, rows)
+    if not float(theta2.max()) * (scale * scale) <= _SQ_HI:   # also False for NaN
+        return False
+    if scale == 1.0:
+        p = rows.T.copy()                       # (3, m): x, y, z as contiguous rows
     else:
-        a, b = map(float, _coefficients(theta2))
-    return _rodrigues_entries(x, y, z, a, b)
+        p = np.multiply(rows.T, scale, order="C")
+        theta2 *= scale * scale
+    A, B = _coefficients(theta2)
+    c = B * theta2
+    np.subtract(1.0, c, out=c)                  # cos(theta) = 1 - B theta^2
+    _rodrigues(p, A, B, c, out)
+    return True
 
 
-def _exp_block(phi, scale, R):
-    r"""``R = exp(hat(scale * phi))`` for a block of rotation vectors ``phi``, shape (m, 3).
-
-    Rodrigues' formula (notebook 02, spec S7) on contiguous arrays of components, with
-    :math:`\hat\varphi^2 = \varphi\varphi^T - \theta^2 I` (the Lemma) written out:
-
-    .. math:: R = I + A\,\hat\varphi + B\,\hat\varphi^2 =
-              \begin{pmatrix} 1 - B(y^2 + z^2) & Bxy - Az & Bxz + Ay \\
-                               Bxy + Az & 1 - B(x^2 + z^2) & Byz - Ax \\
-                               Bxz - Ay & Byz + Ax & 1 - B(x^2 + y^2) \end{pmatrix},
-
-    with :math:`A = \sin\theta/\theta`, :math:`B = (1 - \cos\theta)/\theta^2` and
-    :math:`\theta^2 = x^2 + y^2 + z^2`. The same lines as :func:`_rodrigues_entries`,
-    written into ``R`` directly.
-    """
-    x, y, z = phi.T.copy()                      # three contiguous arrays (m,)
-    if scale != 1.0:
-        x *= scale
-        y *= scale
-        z *= scale
-    with np.errstate(over="ignore"):           # |phi| > 1e154 squares to inf: careful
-        xx, yy, zz = x * x, y * y, z * z
-        theta2 = xx + yy
-        theta2 += zz
-    careful = not (_SQ_LO <= theta2.min() and theta2.max() <= _SQ_HI)
-    if careful:                                 # phi = 0, |phi| < 1e-145 or > 1e145
-        tiny, huge = theta2 < _SQ_LO, theta2 > _SQ_HI
-        theta2[tiny | huge] = 1.0               # placeholder, replaced below
-    a, b = _coefficients(theta2)                # A and B
-    if careful:
-        a[tiny], b[tiny] = 1.0, 0.5             # Taylor, as in _exp_one
-        if huge.any():                          # unit axis n, a = sin, b = 1 - cos
-            theta, n = _angle_and_axis(np.stack([x[huge], y[huge], z[huge]], axis=-1))
-            t = np.tan(0.5 * theta)
-            a[huge] = (t + t) / (1.0 + t * t)
-            b[huge] = a[huge] * t
-            x[huge], y[huge], z[huge] = n.T
-            xx[huge], yy[huge], zz[huge] = n.T * n.T
-
-    out = R.reshape(len(R), 9)                  # entries row by row: R00 R01 R02 R10 ...
-    np.subtract(1.0, b * (yy + zz), out=out[:, 0])
-    np.subtract(1.0, b * (xx + zz), out=out[:, 4])
-    np.subtract(1.0, b * (xx + yy), out=out[:, 8])
-    bx, by = b * x, b * y
-    bxy, bxz, byz = bx * y, bx * z, by * z      # B x y, B x z, B y z
-    ax, ay, az = a * x, a * y, a * z            # A x, A y, A z
-    np.subtract(bxy, az, out=out[:, 1])
-    np.add(bxy, az, out=out[:, 3])
-    np.add(bxz, ay, out=out[:, 2])
-    np.subtract(bxz, ay, out=out[:, 6])
-    np.subtract(byz, ax, out=out[:, 5])
-    np.add(byz, ax, out=out[:, 7])
+def _exp_huge_block(rows, scale, out):
+    """A block with some ``1e145 < |phi| < 1e308``: those rows in the unit-axis form
+    ``I + sin(theta) hat(n) + (1 - cos(theta)) hat(n)^2``, the others as usual."""
+    theta2 = np.einsum("ij,ij->i", rows, rows)
+    with np.errstate(over="ignore"):            # |phi| < 1e308 was checked; theta2 may be inf
+        theta2 *= scale * scale
+        p = np.multiply(rows.T, scale, order="C")
+    huge = theta2 > _SQ_HI
+    p_huge = p[:, huge].T
+    p[:, huge], theta2[huge] = 0.0, 0.0         # placeholders, replaced below
+    A, B = _coefficients(theta2)
+    _rodrigues(p, A, B, 1.0 - B * theta2, out)
+    theta, n = _angle_and_axis(p_huge)
+    t = np.tan(0.5 * theta)
+    sin = (t + t) / (1.0 + t * t)
+    one_minus_cos = sin * t
+    nn = np.einsum("ij,ij->i", n, n)
+    huge_out = np.empty((len(n), 9))
+    _rodrigues(n.T.copy(), sin, one_minus_cos, 1.0 - one_minus_cos * nn, huge_out)
+    out[huge] = huge_out
 
 
 def _validated_rotations(R, check, tol, func):
@@ -306,40 +282,42 @@ def _validated_rotations(R, check, tol, func):
     return R
 
 
+# vee(R - R^T) from the nine entries of R row by row: R21 - R12, R02 - R20, R10 - R01.
+_SKEW_PLUS = np.array([7, 2, 3])
+_SKEW_MINUS = np.array([5, 6, 1])
+
+
 def _skew_and_trace(r):
     """``v = vee(R - R^T) = 2 sin(theta) n`` and ``c = (tr R - 1)/2 = cos(theta)``.
 
-    ``r`` holds the nine entries of ``R`` row by row: floats, or arrays over a block.
+    ``r`` has shape (9, m): the nine entries of ``R`` row by row, across m matrices.
     """
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
-    v = (r21 - r12, r02 - r20, r10 - r01)
-    return v, 0.5 * (r00 + r11 + r22 - 1.0)
+    v = r.take(_SKEW_PLUS, axis=0) - r.take(_SKEW_MINUS, axis=0)
+    c = r[0] + r[4]
+    c += r[8]
+    c -= 1.0
+    c *= 0.5
+    return v, c
 
 
 def _norm3(v):
-    """Euclidean norm over the last axis without overflow or underflow."""
-    return np.hypot(np.hypot(v[..., 0], v[..., 1]), v[..., 2])
+    """Euclidean norm over the first axis of a (3, m) array, without overflow or underflow."""
+    return np.hypot(np.hypot(v[0], v[1]), v[2])
 
 
 def _half_norm(v):
-    """``s = |v|/2`` for a block (``v`` three arrays); hypot where the squares would
-    underflow or overflow (``v = 0`` among them)."""
-    vx, vy, vz = v
-    with np.errstate(over="ignore"):           # overflow: recomputed below
-        vv = vx * vx + vy * vy + vz * vz
-    s = 0.5 * np.sqrt(vv)
+    """``s = |v|/2`` for ``v`` of shape (3, m); hypot where the squares would underflow or
+    overflow (``v = 0`` among them)."""
+    with np.errstate(over="ignore"):            # check=False and huge entries: inf
+        sq = v * v
+        vv = sq[0] + sq[1]
+        vv += sq[2]
+    s = np.sqrt(vv)
+    s *= 0.5
     if not (_SQ_LO <= vv.min() and vv.max() <= _SQ_HI):
         odd = (vv < _SQ_LO) | (vv > _SQ_HI)
-        s[odd] = 0.5 * _norm3(np.stack([vx[odd], vy[odd], vz[odd]], axis=-1))
+        s[odd] = 0.5 * _norm3(v[:, odd])
     return s
-
-
-def _half_norm_one(v):
-    """``s = |v|/2`` for one ``v`` (three floats), as :func:`_half_norm` computes it."""
-    vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
-    if _SQ_LO <= vv <= _SQ_HI:
-        return 0.5 * math.sqrt(vv)
-    return 0.5 * float(np.hypot(np.hypot(v[0], v[1]), v[2]))
 
 
 def angle(R, check=True, tol=ROTATION_TOL):
@@ -365,14 +343,11 @@ def angle(R, check=True, tol=ROTATION_TOL):
     """
     R = _validated_rotations(R, check, tol, "angle")
     rows = R.reshape(-1, 9)                     # each matrix as a row of nine entries
-    if len(rows) <= _FEW:
-        theta = np.array([float(np.arctan2(_half_norm_one(v), c))
-                          for v, c in map(_skew_and_trace, rows.tolist())])
-        return theta.reshape(R.shape[:-2])[()]
     theta = np.empty(len(rows))
     for i in range(0, len(rows), _BLOCK):
         v, c = _skew_and_trace(rows[i:i + _BLOCK].T.copy())
-        theta[i:i + _BLOCK] = np.arctan2(_half_norm(v), c)
+        with np.errstate(invalid="ignore"):     # check=False: inf entries give NaN
+            theta[i:i + _BLOCK] = np.arctan2(_half_norm(v), c)
     return theta.reshape(R.shape[:-2])[()]
 
 
@@ -391,10 +366,14 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
     R : array_like, shape (..., 3, 3)
         Rotation matrices (within ``tol``, see :mod:`so3lib.validation`).
     tau : float or array_like, default 1.0
-        Nonzero time; broadcasts against the leading shape of ``R``.
+        Nonzero time; broadcasts against the leading shape of ``R``. A ``tau`` so small
+        that ``Log(R) / tau`` overflows float64 is refused.
     check : bool
         Refuse matrices that are not rotations (default). ``False`` skips the test for
-        speed; the result for a non-rotation is then meaningless.
+        speed and then returns a number for any finite 3x3 matrix, with no error and no
+        warning: the value means nothing unless ``R`` is a rotation. For example
+        ``log(-np.eye(3), check=False)`` returns ``(pi, 0, 0)``, although ``-I`` is a
+        reflection (det = -1) and has no logarithm at all.
     tol : float
 
     Returns
@@ -420,94 +399,89 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
     absolute value is positive (the first such component on a tie); when ``R`` carries rounding
     noise the noise picks the sign, and either answer is correct to that noise.
 
-    A batch is computed in blocks of a few thousand rotations and a few rotations in
-    plain floats, with the same steps and the same bits.
+    A batch is computed in blocks of a few thousand rotations by one kernel
+    (:func:`_log_block`), for one rotation as for a million.
     """
     R = _validated_rotations(R, check, tol, "log")
     tau = as_times(tau, "log", nonzero=True)
     broadcast_batch(R.shape[:-2], tau, "log", "R")
     rows = R.reshape(-1, 9)                     # each matrix as a row of nine entries
     scale = float(tau) if tau.ndim == 0 else 1.0    # divide by a scalar tau block by block
-    if len(rows) <= _FEW:
-        L = np.array([[p / scale + 0.0 for p in _log_one(r)] for r in rows.tolist()])
-        L = L.reshape(R.shape[:-2] + (3,))
-        return L if tau.ndim == 0 else L / tau[..., None] + 0.0
     L = np.empty(R.shape[:-2] + (3,))
     out = L.reshape(-1, 3)
     for i in range(0, len(rows), _BLOCK):
-        _log_block(rows[i:i + _BLOCK], scale, out[i:i + _BLOCK])
-    return L if tau.ndim == 0 else L / tau[..., None] + 0.0   # + 0.0: no -0.0
+        _log_block(rows[i:i + _BLOCK].T.copy(), scale, out[i:i + _BLOCK])
+    if tau.ndim:
+        with np.errstate(over="ignore"):       # overflow: reported below
+            L = L / tau[..., None] + 0.0       # + 0.0: no -0.0
+    if abs(scale) < _TAU_SMALL or (tau.ndim and np.abs(tau).min() < _TAU_SMALL):
+        _check_quotient(L, tau, "log")
+    return L
 
 
-def _log_one(r):
-    """``Log R`` for one rotation given by its nine entries ``r``, in floats: the steps of
-    :func:`_log_block`."""
-    v, c = _skew_and_trace(r)
-    s = _half_norm_one(v)
-    theta = float(np.arctan2(s, c))
-    if c >= 0:
-        k = theta / (2.0 * s) if s > 0 else 0.0
-        return [k * vi for vi in v]
-    # near pi: the column of (R + R^T)/2 - c I with the largest diagonal entry
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
-    d0, d1, d2 = r00 - c, r11 - c, r22 - c
-    s01, s02, s12 = 0.5 * (r01 + r10), 0.5 * (r02 + r20), 0.5 * (r12 + r21)
-    if d0 >= d1 and d0 >= d2:
-        col = (d0, s01, s02)
-    elif d1 >= d2:
-        col = (s01, d1, s12)
-    else:
-        col = (s02, s12, d2)
-    k = theta / math.sqrt(col[0] * col[0] + col[1] * col[1] + col[2] * col[2])
-    if col[0] * v[0] + col[1] * v[1] + col[2] * v[2] < 0:
-        k = -k
-    return [k * ci for ci in col]
+# |Log R| <= pi, so Log(R) / tau is finite whenever |tau| >= pi / 1.7e308.
+_TAU_SMALL = 1.9e-308
 
 
-def _near_pi(r, v, c, theta):
-    """``theta n`` for a block, with ``n`` from the symmetric part (spec S19).
-
-    Computed for every row of the block and used where ``c < 0``: there the largest
-    diagonal entry of ``(R + R^T)/2 - c I`` is at least ``(1 - c)/3 > 1/3``, so nothing
-    divides by zero; in the other rows it may, and those values are dropped.
-    """
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
-    d0, d1, d2 = r00 - c, r11 - c, r22 - c             # diagonal of (R + R^T)/2 - c I
-    s01, s02, s12 = 0.5 * (r01 + r10), 0.5 * (r02 + r20), 0.5 * (r12 + r21)
-    j0 = (d0 >= d1) & (d0 >= d2)                       # the first largest diagonal entry
-    j1 = d1 >= d2
-    col = (np.where(j0, d0, np.where(j1, s01, s02)),   # its column
-           np.where(j0, s01, np.where(j1, d1, s12)),
-           np.where(j0, s02, np.where(j1, s12, d2)))
-    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-        k = theta / np.sqrt(col[0] * col[0] + col[1] * col[1] + col[2] * col[2])
-        np.negative(k, out=k, where=col[0] * v[0] + col[1] * v[1] + col[2] * v[2] < 0)
-        return [k * ci for ci in col]
+def _check_quotient(L, tau, func):
+    """Raise ValueError where ``L = Log(R) / tau`` overflowed float64 (``tau`` tiny)."""
+    bad = ~np.isfinite(L).all(axis=-1)
+    if bad.any():
+        idx = tuple(int(i) for i in np.argwhere(bad)[0])
+        t = float(np.broadcast_to(tau, bad.shape)[idx])
+        where = f" at index {_index(idx)}" if idx else ""
+        raise ValueError(f"{func} divides Log(R) by tau, and the quotient overflows float64"
+                         f"{where}: tau = {t:.3g} is too small; expected |tau| of at least "
+                         f"|Log R| / 1.7e308 (|tau| >= {_TAU_SMALL:.2g} always works)")
 
 
-def _log_block(rows, scale, out):
-    r"""``out = Log(R) / scale`` for a block of rotations given as rows of nine entries.
+def _log_block(r, scale, out):
+    r"""``out = Log(R) / scale`` for a block of rotations; ``r`` (9, m) holds their entries.
 
-    The steps of spec S23 on contiguous arrays, one per entry of ``R``:
+    The steps of spec S23 on arrays with one row per entry of ``R``:
     ``v = vee(R - R^T)``, ``c = (tr R - 1)/2``, ``s = |v|/2``, ``theta = atan2(s, c)``;
     ``Log R = theta / (2 s) v`` where ``c >= 0``, and ``theta n`` where ``c < 0``, with
     ``n`` the normalised column of ``(R + R^T)/2 - c I`` with the largest diagonal entry,
     signed so that ``n . v >= 0``.
     """
-    r = rows.T.copy()                           # nine contiguous arrays (m,)
     v, c = _skew_and_trace(r)
     s = _half_norm(v)
-    theta = np.arctan2(s, c)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k = np.where(s > 0, theta / (2.0 * s), 0.0)     # theta/(2s) -> 1/2 as s -> 0
-    phi = [k * vi for vi in v]
+    np.maximum(s, 5e-324, out=s)                # v = 0: theta/(2s) * v is then 0 (or pi)
+    with np.errstate(all="ignore"):            # _near_pi off its rows; check=False
+        theta = np.arctan2(s, c)
+        phi = theta / (s + s) * v               # theta/(2s) -> 1/2 as s -> 0
+        near_pi = c < 0
+        if near_pi.any():
+            phi = np.where(near_pi, _near_pi(r, v, c, theta), phi)
+        phi /= scale
+    phi += 0.0                                  # + 0.0 turns -0.0 into 0.0 for printing
+    out[...] = phi.T
 
-    near_pi = c < 0
-    if near_pi.any():
-        phi = [np.where(near_pi, p_pi, p) for p_pi, p in zip(_near_pi(r, v, c, theta), phi)]
 
-    for j, p in enumerate(phi):
-        out[:, j] = p / scale + 0.0             # + 0.0 turns -0.0 into 0.0 for printing
+def _dot(a, b):
+    """Dot products of the columns of two (3, m) arrays, summed in the order x, y, z."""
+    ab = a * b
+    d = ab[0] + ab[1]
+    d += ab[2]
+    return d
+
+
+def _near_pi(r, v, c, theta):
+    """``theta n`` for a block, with ``n`` from the symmetric part (spec S19).
+
+    Computed for every matrix of the block and used where ``c < 0``: there the largest
+    diagonal entry of ``(R + R^T)/2 - c I`` is at least ``(1 - c)/3 > 1/3``, so nothing
+    divides by zero; elsewhere it may, and those values are dropped.
+    """
+    M = r.reshape(3, 3, -1)
+    sym = M + M.transpose(1, 0, 2)
+    sym *= 0.5
+    sym.reshape(9, -1)[::4] -= c                # (R + R^T)/2 - c I
+    j = np.argmax(sym.reshape(9, -1)[::4], axis=0)   # the first largest diagonal entry
+    col = np.take_along_axis(sym, j[None, None, :], axis=1)[:, 0, :]    # its column
+    k = theta / np.sqrt(_dot(col, col))
+    np.negative(k, out=k, where=_dot(col, v) < 0)
+    return k * col
 
 
 def is_rotation(R, tol=ROTATION_TOL):

@@ -1,7 +1,7 @@
 """The batched kernels give the same bits as one-rotation calls, on the hard cases too.
 
-``exp``, ``log`` and ``angle`` compute a few rotations in plain floats and a batch in
-blocks of ``so3lib.so3._BLOCK`` rotations; the accuracy tests (test_accuracy.py) call
+``exp``, ``log`` and ``angle`` run one kernel each over blocks of ``so3lib.so3._BLOCK``
+rotations (one rotation is a block of one); the accuracy tests (test_accuracy.py) call
 them one rotation at a time. Here the hard cases, and rotation vectors too long to square
 (|phi| > 1e154), go through the blocks, mixed with ordinary rotations and placed on both
 sides of a block boundary, and must come out identical.
@@ -57,13 +57,16 @@ def test_log_and_angle_batch_equal_single_calls(rng, tau):
         assert theta[k] == so3lib.angle(R[k]), k
 
 
-def test_few_rotations_equal_their_batch(rng):
-    """Up to so3._FEW rotations take the plain-float path; the blocks give the same."""
-    phi = rng.standard_normal((so3._FEW + 1, 3)) * 2
+@pytest.mark.parametrize("n", [1, 2, 9, 100])
+def test_few_rotations_equal_their_batch(rng, n):
+    """A short batch gives the same bits as a longer one and as one rotation at a time."""
+    phi = rng.standard_normal((n + 1, 3)) * 2
     assert np.array_equal(so3lib.exp(phi[:-1]), so3lib.exp(phi)[:-1])
     R = so3lib.exp(phi)
     assert np.array_equal(so3lib.log(R[:-1]), so3lib.log(R)[:-1])
     assert np.array_equal(so3lib.angle(R[:-1]), so3lib.angle(R)[:-1])
+    assert all(np.array_equal(so3lib.exp(phi[k]), so3lib.exp(phi)[k]) for k in range(n))
+    assert all(np.array_equal(so3lib.log(R[k]), so3lib.log(R)[k]) for k in range(n))
 
 
 def test_rotation_check_names_the_first_bad_matrix_in_a_later_block(rng):

@@ -1,46 +1,70 @@
 """The checkers of notebook 04 (so3lib.exercises.logarithm): a right answer passes; a
 missing answer, a raising function, a wrong shape, NaN and the usual wrong answers each
-get a helpful message, never an exception."""
+get a helpful message, never an exception; no message prints the expected answer, and
+exercise 4.4 notices a call to a logarithm."""
 
 import numpy as np
 import pytest
+from checker_support import not_written as _not_written
+from checker_support import says as _says
 
 import so3lib
-from checker_support import not_written as _not_written, says as _says
-from so3lib.exercises.logarithm import (R41, TAU41, all_logs, check_all_logs,
-                                        check_halfturn_axis, check_log_at_pi,
-                                        check_sigma_and_axis)
-
+from so3lib.exercises.logarithm import (
+    ROTATION_TOL_41,
+    check_all_logs,
+    check_halfturn_axis,
+    check_log_at_pi,
+    check_nan_rotation,
+    notes_recipe,
+)
 
 # ----------------------------------------------------------------------- exercise 4.1
 
-THETA = np.arccos((np.trace(R41) - 1) / 2)
-V = np.array([R41[2, 1] - R41[1, 2], R41[0, 2] - R41[2, 0], R41[1, 0] - R41[0, 1]])
-SIGMA, N = THETA / TAU41, V / (2 * np.sin(THETA))
+DIAG = np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0)
+HALF = 2 * np.outer(DIAG, DIAG) - np.eye(3)                # c = -1 - 2 eps: NaN
+SIDE = np.array([1.0, 0.0, 1.0]) / np.sqrt(2.0)
+HALF2 = 2 * np.outer(SIDE, SIDE) - np.eye(3)               # c = -1 - 2 eps: NaN
 
 
-def test_sigma_and_axis_right_answer_passes():
-    fb = check_sigma_and_axis(SIGMA, N)
-    assert fb and repr(fb).startswith("Correct: sigma and n")
-    assert np.allclose(so3lib.exp(SIGMA * N, TAU41), R41)     # the exercise is consistent
+def test_notes_recipe_is_the_notes_formula():
+    omega = np.array([0.3, -0.2, 0.5])
+    assert np.allclose(notes_recipe(so3lib.exp(omega, 2.0), 2.0), omega)
+    assert np.array_equal(notes_recipe(np.eye(3)), np.zeros(3))      # (4.7): sigma = 0
 
 
-@pytest.mark.parametrize("sigma, n, says", [
-    (None, None, "sigma. No answer yet(.|\\n)*the axis n. No answer yet"),
-    (..., N, "sigma. No answer yet"),
-    (SIGMA, np.r_[N, 0.0], r"shape \(4,\); expected shape \(3,\)"),
-    (np.nan, N, "NaN or inf"),
-    (SIGMA, np.full(3, np.nan), "NaN or inf"),
-    (THETA, N, "divide by tau"),
-    (THETA * TAU41, N, "multiplied by tau"),
-    (SIGMA, V, "divide by 2 sin"),
-    (SIGMA, TAU41 * N, "should not contain tau"),
-    (SIGMA, -N, "off by a sign"),
-    (SIGMA, 1.5 * N, "length 1.5"),
-    ("fast", N, "not a number"),
+@pytest.mark.parametrize("R", [
+    HALF,
+    HALF2,
+    np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0 + 2.0**-51]]),   # c = 1 + eps
 ])
-def test_sigma_and_axis_wrong_answers_get_a_message(sigma, n, says):
-    _says(check_sigma_and_axis(sigma, n), says)
+def test_nan_rotation_right_answers_pass(R):
+    fb = check_nan_rotation(R)
+    assert fb and repr(fb).startswith("Correct: R_nan"), repr(fb)
+    assert np.isnan(notes_recipe(R)).any()
+
+
+def test_the_checks_own_examples_are_rotations_to_rounding():
+    for R in (HALF, HALF2):
+        assert np.abs(R.T @ R - np.eye(3)).max() <= ROTATION_TOL_41
+        assert so3lib.is_rotation(R)
+
+
+@pytest.mark.parametrize("R, says", [
+    (None, "No answer yet"),
+    (..., "No answer yet"),
+    ("R", "not a matrix of numbers"),
+    (np.eye(2), r"shape \(2, 2\)"),
+    (np.full((3, 3), np.nan), "NaN or inf itself"),
+    (np.diag([1.0 + 1e-9, 1.0, 1.0]), "not a rotation to rounding"),
+    (np.diag([1.0, 1.0, -1.0]), "det R"),
+    (np.eye(3), "identity to rounding"),
+    (so3lib.random_rotation(0) @ so3lib.random_rotation(0).T, "identity to rounding"),
+    (2 * np.outer([0.6, 0.8, 0.0], [0.6, 0.8, 0.0]) - np.eye(3), "skew part is exactly 0"),
+    (so3lib.exp([1e-9, 0.0, 0.0]), "silent 0"),
+    (so3lib.exp([0.3, -0.4, 1.2]), "lies inside \\[-1, 1\\]"),
+])
+def test_nan_rotation_wrong_answers_get_a_message(R, says):
+    _says(check_nan_rotation(R), says)
 
 
 # ----------------------------------------------------------------------- exercise 4.3
@@ -68,7 +92,7 @@ def _first_column(R):
     (..., "No answer yet"),
     (3, "Expected a function"),
     (_not_written, "Not written yet"),
-    (lambda R: 1 / 0, "raised ZeroDivisionError"),
+    (lambda R: 1 / 0, "raised ZeroDivisionError(.|\\n)*column of R \\+ I"),
     (lambda R: None, "returned None"),
     (lambda R: np.eye(3), r"shape \(3, 3\); expected a vector"),
     (lambda R: "n", "not an array of numbers"),
@@ -76,10 +100,16 @@ def _first_column(R):
     (_first_column, "largest diagonal entry"),
     (lambda R: np.pi * _halfturn_axis(R), "logarithm pi n"),
     (lambda R: 2 * _halfturn_axis(R), "Right direction, but length 2"),
-    (lambda R: np.array([1.0, 0.0, 0.0]), "every column of R \\+ I is a multiple of n"),
+    (lambda R: np.array([1.0, 0.0, 0.0]) if R[2, 2] > 0.9 else _halfturn_axis(R),
+     "every column of R \\+ I is a multiple of n"),
 ])
 def test_halfturn_axis_wrong_answers_get_a_message(student, says):
     _says(check_halfturn_axis(student), says)
+
+
+def test_halfturn_axis_messages_do_not_show_the_axis():
+    text = repr(check_halfturn_axis(lambda R: np.array([0.0, 1.0, 0.0])))
+    assert "expected" not in text and "+-[" not in text, text
 
 
 # ----------------------------------------------------------------------- exercise 4.2
@@ -97,29 +127,28 @@ def test_all_logs_right_answer_passes_in_any_order():
     assert check_all_logs(lambda R, b: _all_logs(R, b)[::-1])
 
 
-def test_all_logs_reference():
-    R = so3lib.exp([0.0, 0.0, 1.0])
-    phis = all_logs(R, 12.0)
-    assert phis.shape == (4, 3)
-    assert np.allclose(phis[:, 2], [1.0, 1.0 - 2 * np.pi, 1.0 + 2 * np.pi, 1.0 - 4 * np.pi])
-    for phi in phis:
-        assert np.allclose(so3lib.exp(phi), R)
-
-
 @pytest.mark.parametrize("student, says", [
     (None, "No answer yet"),
+    (3, "Expected a function"),
     (_not_written, "Not written yet"),
     (lambda R, b: 1 / 0, "raised ZeroDivisionError"),
     (lambda R, b: None, "returned None"),
     (lambda R, b: np.zeros((2, 2)), r"shape \(2, 2\); expected shape \(m, 3\)"),
     (lambda R, b: np.full((2, 3), np.nan), "NaN or inf"),
     (lambda R, b: [p for p in _all_logs(R, b) if p @ so3lib.log(R) > 0], "k < 0 ones"),
-    (lambda R, b: [-p for p in _all_logs(R, b)], "check each vector"),
-    (lambda R, b: [so3lib.log(R)] * 5, "keep those"),
+    (lambda R, b: _all_logs(R, b)[:2], "negative ones included"),
+    (lambda R, b: [-p for p in _all_logs(R, b)], "is not a logarithm of R"),
+    (lambda R, b: [so3lib.log(R)] * 5, "the same logarithm"),
+    (lambda R, b: _all_logs(R, b + 10), "not below the bound"),
     (lambda R, b: [["a", "b", "c"]], "not an array of numbers"),
 ])
 def test_all_logs_wrong_answers_get_a_message(student, says):
     _says(check_all_logs(student), says)
+
+
+def test_all_logs_messages_do_not_print_the_lengths_expected():
+    text = repr(check_all_logs(lambda R, b: [so3lib.log(R)]))
+    assert "expected" not in text and "5.283" not in text and "7.283" not in text, text
 
 
 # ----------------------------------------------------------------------- exercise 4.4
@@ -140,15 +169,43 @@ def _first_nonzero(n):
     return np.pi * np.sign(n[np.flatnonzero(n)[0]]) * n
 
 
+def _by_log(n):
+    return so3lib.log(2 * np.outer(n, n) - np.eye(3))
+
+
+def _by_angle(n):
+    R = 2 * np.outer(n, n) - np.eye(3)
+    so3lib.angle(R)
+    return _log_at_pi(n)
+
+
+def _by_scipy(n):
+    from scipy.spatial.transform import Rotation
+    return Rotation.from_matrix(2 * np.outer(n, n) - np.eye(3)).as_rotvec()
+
+
 @pytest.mark.parametrize("student, says", [
     (None, "No answer yet"),
+    (3, "Expected a function"),
     (_not_written, "Not written yet"),
     (lambda n: 1 / 0, "raised ZeroDivisionError"),
-    (lambda n: np.pi, r"shape \(\); expected shape \(3,\)"),
+    (lambda n: None, "returned None"),
+    (lambda n: np.pi, r"shape \(\); expected a rotation vector"),
     (lambda n: np.full(3, np.nan), "NaN or inf"),
     (lambda n: np.pi * np.asarray(n), "pi n as given"),
     (_first_nonzero, "first nonzero component positive"),
     (lambda n: -_log_at_pi(n), "largest component"),
+    (lambda n: 2 * _log_at_pi(n), "not \\+-pi n"),
+    (_by_log, "It calls log, a logarithm"),
+    (_by_angle, "It calls angle, a logarithm"),
+    (_by_scipy, "a logarithm: the exercise asks"),
 ])
 def test_log_at_pi_wrong_answers_get_a_message(student, says):
     _says(check_log_at_pi(student), says)
+
+
+def test_log_at_pi_watch_leaves_no_profiler_behind():
+    import sys
+    check_log_at_pi(_by_log)
+    check_log_at_pi(lambda n: 1 / 0)
+    assert sys.getprofile() is None

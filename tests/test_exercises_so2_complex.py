@@ -4,12 +4,20 @@ get a helpful message, never an exception."""
 
 import numpy as np
 import pytest
+from checker_support import not_written as _not_written
+from checker_support import says as _says
 
-from checker_support import not_written as _not_written, says as _says
 from so3lib import so2
-from so3lib.exercises.so2_complex import (ACCEL, OMEGA0, T_END, check_quaternion,
-                                          check_so2_log, check_varying_rate, quaternion)
-
+from so3lib.exercises.so2_complex import (
+    ACCEL,
+    OMEGA0,
+    Q33,
+    T_END,
+    check_so2_log,
+    check_unflip,
+    check_varying_rate,
+    logged_quaternions,
+)
 
 # ----------------------------------------------------------------------- exercise 3.1
 
@@ -23,6 +31,7 @@ def test_so2_log_right_answer_passes():
     (..., "No answer yet"),
     (_not_written, "Not written yet"),
     (lambda R: 1 / 0, "raised ZeroDivisionError"),
+    (3, "Expected a function"),
     (lambda R: np.array([1.0, 2.0]), r"has shape \(2,\); expected shape \(\)"),
     (lambda R: np.nan, "NaN or inf"),
     (lambda R: np.arccos(R[0, 0]), r"cannot tell \+theta from -theta"),
@@ -39,7 +48,7 @@ def test_so2_log_wrapping_is_required():
     def unwrapped(R):
         t = np.arctan2(R[1, 0], R[0, 0])
         return t + 2 * np.pi if np.isclose(t, 4.0 - 2 * np.pi) else t
-    _says(check_so2_log(unwrapped), "expected -2.28319")
+    _says(check_so2_log(unwrapped), r"right rotation, but outside \(-pi, pi\]")
 
 
 # ----------------------------------------------------------------------- exercise 3.2
@@ -53,9 +62,9 @@ def test_varying_rate_right_answer_passes():
 @pytest.mark.parametrize("answer, says", [
     (None, "No answer yet"),
     (..., "No answer yet"),
-    (np.eye(3), r"shape \(3, 3\); expected shape \(2, 2\)"),
+    (np.eye(3), r"shape \(3, 3\); a planar rotation is a 2x2 matrix"),
     (np.full((2, 2), np.nan), "NaN or inf"),
-    (3.0, "You gave a number \\(and that angle is right\\)"),
+    (3.0, "You gave a number"),
     (so2.exp((OMEGA0 + ACCEL * T_END) * T_END), "the rate at the end times T"),
     (so2.exp(OMEGA0 * T_END), "the rate at the start times T"),
     (so2.exp(-3.0), "transpose"),
@@ -65,24 +74,64 @@ def test_varying_rate_wrong_answers_get_a_message(answer, says):
     _says(check_varying_rate(answer), says)
 
 
+def test_checkers_never_print_the_expected_value():
+    """A wrong answer's message names the learner's value and the mistake, never the
+    answer: the angle 3 of exercise 3.2, the matrix it gives, or so2.exp(4.0)'s angle."""
+    alpha = OMEGA0 * T_END + ACCEL * T_END ** 2 / 2
+    for answer in (so2.exp(alpha + 0.1), so2.exp(-alpha), np.eye(2)):
+        text = repr(check_varying_rate(answer))
+        assert "expected" not in text and "-0.99" not in text and "0.1411" not in text, text
+    text = repr(check_so2_log(lambda R: 0.1))
+    assert "expected" not in text and "-2.283" not in text and "0.5 " not in text, text
+
+
 # ----------------------------------------------------------------------- exercise 3.3
 
-def test_quaternion_right_answer_passes():
-    fb = check_quaternion(lambda n, theta: np.r_[np.cos(theta / 2), np.sin(theta / 2) * n])
-    assert fb and repr(fb).startswith("Correct: quaternion")
-    assert np.allclose(quaternion([0, 0, 1], np.pi), [0, 0, 0, 1], atol=1e-16)
+def _unflip(qs):
+    out = np.array(qs, dtype=float)
+    for k in range(1, len(out)):
+        if out[k] @ out[k - 1] < 0:
+            out[k] = -out[k]
+    return out
+
+
+def _unflip_against_the_log(qs):
+    out = np.array(qs, dtype=float)
+    for k in range(1, len(out)):
+        if qs[k] @ qs[k - 1] < 0:
+            out[k] = -out[k]
+    return out
+
+
+def test_unflip_right_answer_passes():
+    fb = check_unflip(_unflip)
+    assert fb and repr(fb).startswith("Correct: unflip")
+    assert check_unflip(lambda qs: _unflip(qs).tolist())
+
+
+def test_the_logs_have_jumps_and_unit_rows():
+    for qs in (Q33, logged_quaternions(7, 30)):
+        assert np.allclose(np.linalg.norm(qs, axis=1), 1.0)
+        assert (np.einsum("ij,ij->i", qs[1:], qs[:-1]) < 0).sum() >= 3
+        fixed = _unflip(qs)
+        assert (np.einsum("ij,ij->i", fixed[1:], fixed[:-1]) > 0.9).all()
 
 
 @pytest.mark.parametrize("student, says", [
     (None, "No answer yet"),
+    (..., "No answer yet"),
+    ("q", "Expected a function"),
     (_not_written, "Not written yet"),
-    (lambda n, t: n[5], "raised IndexError"),
-    (lambda n, t: n, r"has shape \(3,\); expected shape \(4,\)"),
-    (lambda n, t: np.full(4, np.nan), "NaN or inf"),
-    (lambda n, t: -quaternion(n, t), "double cover"),
-    (lambda n, t: quaternion(n, 2 * t), "theta/2"),
-    (lambda n, t: np.roll(quaternion(n, t), -1), "scalar part first"),
-    (lambda n, t: np.r_[np.cos(t / 2), n], "expected"),
+    (lambda qs: qs[5, 9], "raised IndexError"),
+    (lambda qs: None, "returned None"),
+    (lambda qs: qs[:, :3], r"shape \(41, 3\); expected the input's shape \(41, 4\)"),
+    (lambda qs: np.full(qs.shape, np.nan), "NaN or inf"),
+    (lambda qs: "qs", "not an array of numbers"),
+    (lambda qs: -_unflip(qs), "row 0 changed"),
+    (lambda qs: np.vstack([qs[:1], 2 * _unflip(qs)[1:]]), "neither q_k nor -q_k"),
+    (lambda qs: qs * np.where(qs[:, :1] < 0, -1.0, 1.0), "every w >= 0"),
+    (_unflip_against_the_log, r"logged\* row k - 1"),
+    (lambda qs: qs, "flip q_k when"),
 ])
-def test_quaternion_wrong_answers_get_a_message(student, says):
-    _says(check_quaternion(student), says)
+def test_unflip_wrong_answers_get_a_message(student, says):
+    _says(check_unflip(student), says)

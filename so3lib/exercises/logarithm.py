@@ -3,9 +3,9 @@ r"""Checkers for the exercises of notebook 04, "The logarithm".
 =============  ==========================================  ==============================
 exercise       the learner writes                          checker
 =============  ==========================================  ==============================
-4.1            ``sigma`` and ``n`` for the rotation        :func:`check_sigma_and_axis`
-               ``R41`` reached in ``TAU41`` seconds, by
-               the lecture notes' method
+4.1            ``R_nan``, a rotation (to rounding) on      :func:`check_nan_rotation`
+               which the lecture notes' recipe returns
+               NaN
 4.2            ``all_logs(R, bound)``, every rotation      :func:`check_all_logs`
                vector of length below ``bound`` whose
                exponential is ``R``, one per row
@@ -13,26 +13,36 @@ exercise       the learner writes                          checker
                rotation by pi (either sign)
 4.4            ``log_at_pi(n)``, the logarithm that        :func:`check_log_at_pi`
                ``so3lib.log`` returns for the half-turn
-               ``2 n n^T - I``
+               ``2 n n^T - I``, predicted without
+               calling a logarithm
 =============  ==========================================  ==============================
 
-Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises.
+Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises. A checker
+holds no answer: it tests the defining property of one (``exp(phi) == R``, a unit ``n``
+with ``2 n n^T - I == R``, the count and spacing of the logarithms) and names the usual
+mistake, but never prints the expected value.
 """
+
+import sys
 
 import numpy as np
 
-from ..so3 import angle, exp, log, random_rotation
-from . import Feedback, check_function, check_value, never_raises
+from .. import so3 as _so3
+from ..so3 import angle, exp, log
+from . import Feedback, check_function, never_raises
 
-__all__ = ["check_sigma_and_axis", "check_halfturn_axis", "check_all_logs",
-           "check_log_at_pi", "all_logs", "R41", "TAU41"]
+__all__ = [
+    "ROTATION_TOL_41",
+    "check_all_logs",
+    "check_halfturn_axis",
+    "check_log_at_pi",
+    "check_nan_rotation",
+    "notes_recipe",
+]
 
-#: Exercise 4.1: a rotation (angle about 1.85 rad) ...
-R41 = random_rotation(40)
-R41.setflags(write=False)
-#: ... reached in this time (s).
-TAU41 = 2.0
-
+#: Exercise 4.1: how far from orthogonal (max |R^T R - I|) and from det 1 the matrix may be:
+#: a few roundings, so that only a genuine rotation counts.
+ROTATION_TOL_41 = 1e-13
 
 
 def _unanswered(fb):
@@ -44,62 +54,210 @@ def _unanswered(fb):
 def _as_float(x):
     try:
         return np.asarray(x, dtype=float)
-    except Exception:
+    except Exception:  # noqa: BLE001 (a checker never raises)
         return None
 
 
-def _try_call(func, *args):
-    """``func(*args)`` as a finite float array, or None if that fails."""
+def _fmt(a):
+    return np.array2string(np.asarray(a, dtype=float) + 0.0, precision=4,
+                           suppress_small=True, separator=", ")
+
+
+def _not_written(name):
+    return Feedback(False, f"Not yet: {name}. Not written yet: the function still "
+                           "raises NotImplementedError.")
+
+
+def _call(func, name, label, *args):
+    """``(result, None)``, or ``(None, Feedback)`` when calling ``func`` fails."""
     try:
-        out = np.asarray(func(*[np.array(a, copy=True) if isinstance(a, np.ndarray) else a
-                                for a in args]), dtype=float)
-        return out if np.isfinite(out).all() else None
-    except Exception:
-        return None
+        got = func(*[np.array(a, copy=True) if isinstance(a, np.ndarray) else a
+                     for a in args])
+    except NotImplementedError:
+        return None, _not_written(name)
+    except Exception as err:  # noqa: BLE001 (the learner's code may raise anything)
+        return None, Feedback(False, f"Not yet: {name}. For {label} it raised "
+                                     f"{type(err).__name__}: {err}")
+    if got is None:
+        return None, Feedback(False, f"Not yet: {name}. It returned None for {label}: is "
+                                     "the `return` missing?")
+    return got, None
 
 
 # --------------------------------------------------------------------------- 4.1
 
-@never_raises("sigma and n")
-def check_sigma_and_axis(sigma, n):
-    r"""Exercise 4.1: the angular speed ``sigma`` and unit axis ``n`` of ``R41`` reached in
-    ``TAU41`` seconds, by the lecture notes' method (notebook 04, (4.5) and (4.6)):
+def notes_recipe(R, tau=1.0):
+    r"""The lecture notes' logarithm, exactly as printed (notebook 04, (4.5) to (4.7)):
 
-    .. math:: \sigma = \frac1\tau\arccos\frac{\operatorname{tr}R - 1}{2},\qquad
-              n = \frac{(R - R^T)^\vee}{2\sin(\sigma\tau)}
+    .. math:: \sigma = \frac1\tau\arccos\frac{\operatorname{tr}R - 1}{2},\quad
+              n = \frac{(R - R^T)^\vee}{2\sin(\sigma\tau)},\quad
+              \omega = \sigma n\ (\omega = 0 \text{ if } \sigma = 0)
 
-    Recognises ``sigma`` not divided by ``tau``, ``n`` not divided by ``2 sin``, and ``n``
-    with the opposite sign.
+    with ``np.arccos`` not clipped. It is the object of exercise 4.1, not an answer to
+    it. NumPy's warnings are silenced; a NaN is returned as it comes.
+
+    Parameters
+    ----------
+    R : array_like, shape (3, 3)
+    tau : float, > 0
+
+    Returns
+    -------
+    omega : ndarray, shape (3,)
     """
-    theta = float(angle(R41))
-    v = np.array([R41[2, 1] - R41[1, 2], R41[0, 2] - R41[2, 0], R41[1, 0] - R41[0, 1]])
-    sigma_ref, n_ref = theta / TAU41, v / (2 * np.sin(theta))
-    s_hint = "sigma = arccos((trace(R) - 1) / 2) / tau: the angle divided by the time."
-    s = _as_float(sigma)
-    if s is not None and s.shape == () and np.isfinite(s):
-        if np.isclose(float(s), theta):
-            s_hint = ("That is the angle theta = sigma tau in radians; sigma is an angular "
-                      "speed, so divide by tau.")
-        elif np.isclose(float(s), theta * TAU41):
-            s_hint = "You multiplied by tau; sigma = theta / tau."
-    fb_s = check_value(sigma, sigma_ref, "sigma", atol=1e-9, rtol=1e-9, hint=s_hint)
-    n_hint = "n = vee(R - R^T) / (2 sin(sigma tau)), a unit vector."
-    a = _as_float(n)
-    if a is not None and a.shape == (3,) and np.isfinite(a).all():
-        if np.allclose(a, v, atol=1e-9):
-            n_hint = ("That is vee(R - R^T) = 2 sin(theta) n; divide by 2 sin(sigma tau) "
-                      "to get the unit axis.")
-        elif np.allclose(a, n_ref * TAU41, atol=1e-9) or np.allclose(a, TAU41 * v, atol=1e-9):
-            n_hint = "n is unitless: it should not contain tau."
-        elif not np.isclose(np.linalg.norm(a), 1.0, atol=1e-6):
-            n_hint = (f"Your n has length {np.linalg.norm(a):.4g}; an axis has length 1. "
-                      "Check the factor 2 sin(sigma tau).")
-    fb_n = check_value(n, n_ref, "the axis n", atol=1e-9, rtol=1e-9, hint=n_hint)
-    if fb_s and fb_n:
-        return Feedback(True, "Correct: sigma and n. Then omega = sigma n, and "
-                              "exp(omega, tau) gives R back.")
-    parts = [fb.message for fb in (fb_s, fb_n) if not fb]
-    return Feedback(False, "\n".join(parts))
+    R = np.asarray(R, dtype=float)
+    with np.errstate(all="ignore"):
+        sigma = np.arccos((np.trace(R) - 1) / 2) / tau                       # (4.5)
+        if sigma == 0:
+            return np.zeros(3)                                              # (4.7)
+        v = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+        n = v / (2 * np.sin(sigma * tau))                                   # (4.6)
+        return sigma * n
+
+
+@never_raises("R_nan")
+def check_nan_rotation(R_nan):
+    r"""Exercise 4.1: ``R_nan`` must be a rotation matrix to rounding (``max|R^T R - I|``
+    and ``|det R - 1|`` at most :data:`ROTATION_TOL_41`) on which :func:`notes_recipe`
+    returns NaN.
+
+    Recognises a matrix that is not a rotation, the identity (which the recipe's own
+    :math:`\sigma = 0` rule handles) and a tiny rotation, on which the recipe returns a
+    silent zero instead of NaN.
+    """
+    name = "R_nan"
+    if R_nan is None or R_nan is Ellipsis:
+        return Feedback(False, f"Not yet: {name}. No answer yet: replace the `...` with "
+                               "a 3x3 rotation matrix and run the cell again.")
+    R = _as_float(R_nan)
+    if R is None:
+        return Feedback(False, f"Not yet: {name}. It is a {type(R_nan).__name__}, not a "
+                               "matrix of numbers.")
+    if R.shape != (3, 3):
+        return Feedback(False, f"Not yet: {name}. It has shape {R.shape}; a rotation of "
+                               "space is a 3x3 matrix.")
+    if not np.isfinite(R).all():
+        return Feedback(False, f"Not yet: {name}. It contains NaN or inf itself; the "
+                               "exercise asks for a genuine rotation on which the recipe "
+                               "makes a NaN.")
+    off = float(np.abs(R.T @ R - np.eye(3)).max())
+    det = float(np.linalg.det(R))
+    if off > ROTATION_TOL_41 or abs(det - 1) > ROTATION_TOL_41:
+        return Feedback(False, f"Not yet: {name}. It is not a rotation to rounding: "
+                               f"max|R^T R - I| = {off:.2g} and det R = {det:.17g}; both "
+                               f"must be within {ROTATION_TOL_41:g} of I and 1.\nHint: "
+                               "build it from so3lib (exp, random_rotation, products of "
+                               "rotations), so that it carries only rounding errors.")
+    omega = notes_recipe(R)
+    c = (np.trace(R) - 1) / 2
+    if not np.isfinite(omega).all():
+        return Feedback(True, f"Correct: {name}. It is a rotation to rounding, and the "
+                              f"recipe returns NaN: c = (tr R - 1)/2 = {c:.17g} lies "
+                              "outside [-1, 1], where arccos is not defined.")
+    theta = float(angle(R))
+    if not omega.any() and theta <= 1e-12:
+        hint = ("Your R is the identity to rounding: the case (4.7) guards, where sigma = 0 "
+                "gives omega = 0, correctly. Look for a rotation where c = (tr R - 1)/2 can "
+                "leave [-1, 1] by rounding.")
+    elif not omega.any() and c < 0:
+        hint = ("Your R is a half-turn whose skew part is exactly 0, so n = 0 and the "
+                "recipe returns a silent 0: wrong (exp(0) = I), but not a NaN. Here c = "
+                f"{c:.17g}; on other half-turns rounding pushes c just below -1.")
+    elif not omega.any():
+        hint = (f"Your R turns by {theta:.2g} rad, yet c rounds to exactly 1, so sigma = "
+                "0 and (4.7) returns a silent 0: a wrong answer, but not a NaN. Where else "
+                "is c = +-1, so that rounding can push it outside [-1, 1]?")
+    else:
+        hint = (f"On your R, c = (tr R - 1)/2 = {c:.17g} lies inside [-1, 1] and "
+                "sin(sigma tau) is not 0, so every step is defined. A NaN needs an arccos "
+                "outside [-1, 1], 0/0 or 0 * inf: which angles bring c to +-1?")
+    return Feedback(False, f"Not yet: {name}. On it the recipe returns the finite "
+                           f"vector {_fmt(omega)}.\nHint: {hint}")
+
+
+# --------------------------------------------------------------------------- 4.2
+
+_ALL_LOG_INPUTS = [
+    (exp([0.0, 0.0, 1.0]), 7.0),
+    (exp([0.3, -0.4, 1.2]), 10.0),
+    (exp(2.5 * np.array([2.0, -1.0, 2.0]) / 3.0), 20.0),
+]
+
+
+def _count_below(theta, bound):
+    """How many of the lengths |theta + 2 pi k|, k an integer, are below ``bound``."""
+    kmax = int(bound // (2 * np.pi)) + 2
+    return sum(abs(theta + 2 * np.pi * k) < bound for k in range(-kmax, kmax + 1))
+
+
+@never_raises("all_logs")
+def check_all_logs(func):
+    r"""Exercise 4.2: ``func(R, bound)`` must return, one per row and in any order, every
+    rotation vector :math:`\varphi` with :math:`e^{\hat\varphi} = R` and
+    :math:`\lVert\varphi\rVert <` ``bound``.
+
+    Tests the defining properties: each row is finite, shorter than ``bound``, along the
+    rotation's axis and has ``exp(row) == R``; no two rows are equal; and there are as
+    many rows as integers ``k`` with :math:`|\theta + 2\pi k| <` ``bound``. Recognises the
+    usual slip: only ``k >= 0``, forgetting the logarithms that point along ``-n``.
+    """
+    name = "all_logs"
+    if func is None or func is Ellipsis or not callable(func):
+        return check_function(func, None, [], name)
+    for R, bound in _ALL_LOG_INPUTS:
+        theta = float(angle(R))
+        n = log(R) / theta
+        label = f"all_logs(R, {bound:g}) with R a rotation by {theta:.4g} rad"
+        got, fail = _call(func, name, label, R, bound)
+        if fail is not None:
+            return fail
+        a = _as_float(got)
+        if a is None:
+            return Feedback(False, f"Not yet: {name}. {label} returned something that is "
+                                   "not an array of numbers (a list of 3-vectors is fine).")
+        if a.shape == (3,):
+            a = a[None, :]
+        if a.ndim != 2 or a.shape[1] != 3:
+            return Feedback(False, f"Not yet: {name}. {label} returned shape {a.shape}; "
+                                   "expected shape (m, 3), one rotation vector per row.")
+        if not np.isfinite(a).all():
+            return Feedback(False, f"Not yet: {name}. {label} returned NaN or inf.")
+        for i, phi in enumerate(a):
+            err = float(np.abs(exp(phi) - R).max())
+            if err > 1e-8:
+                return Feedback(False, f"Not yet: {name}. Row {i} of {label}, "
+                                       f"{_fmt(phi)}, is not a logarithm of R: exp of it "
+                                       f"differs from R by {err:.2g}.\nHint: every "
+                                       "logarithm is (theta + 2 pi k) n with n the unit "
+                                       "axis of log(R); check each row.")
+            if np.linalg.norm(phi) >= bound:
+                return Feedback(False, f"Not yet: {name}. Row {i} of {label} has length "
+                                       f"{np.linalg.norm(phi):.4g}, not below the bound.")
+        for i in range(len(a)):
+            for j in range(i):
+                if np.abs(a[i] - a[j]).max() <= 1e-8:
+                    return Feedback(False, f"Not yet: {name}. {label}: rows {j} and {i} "
+                                           "are the same logarithm; list each once.\nHint: "
+                                           "the logarithms are (theta + 2 pi k) n, one for "
+                                           "each integer k with |theta + 2 pi k| < bound.")
+        count = _count_below(theta, bound)
+        if len(a) == count:
+            continue
+        if len(a) > count:      # cannot happen with distinct valid rows; kept for safety
+            return Feedback(False, f"Not yet: {name}. {label} returned {len(a)} rows, "
+                                   "more than there are logarithms below the bound.")
+        if (a @ n > 0).all():
+            hint = ("You have the k >= 0 ones. The k < 0 ones, (theta - 2 pi |k|) n, point "
+                    "along -n and have length 2 pi |k| - theta: turning the other way round "
+                    "reaches the same R.")
+        else:
+            hint = ("The logarithms are (theta + 2 pi k) n for every integer k, negative "
+                    "ones included; keep those with |theta + 2 pi k| < bound.")
+        return Feedback(False, f"Not yet: {name}. {label} returned {len(a)} logarithms, "
+                               "all right, but some logarithms shorter than the bound are "
+                               f"missing.\nHint: {hint}")
+    return Feedback(True, f"Correct: {name}. It finds every logarithm below the bound, "
+                          f"each once, for {len(_ALL_LOG_INPUTS)} rotations.")
 
 
 # --------------------------------------------------------------------------- 4.3
@@ -121,38 +279,32 @@ _HALF_AXES = [
 
 
 def _halfturn_inputs():
-    cases = [(f"the half-turn about {np.round(n, 4).tolist()}", _halfturn(n), n)
-             for n in _HALF_AXES]
-    n = _HALF_AXES[-1]
-    cases.append((f"exp(pi n) with n = {np.round(n, 4).tolist()} (rounding noise included)",
-                  exp(np.pi * n), n))
-    return cases
+    """(label, R) pairs; the label shows the input matrix, never its axis."""
+    cases = [_halfturn(n) for n in _HALF_AXES] + [exp(np.pi * _HALF_AXES[-1])]
+    return [(f"R = {(np.round(R, 4) + 0.0).tolist()}"
+             + (" (exp(pi n), with rounding noise)" if i == 5 else ""), R)
+            for i, R in enumerate(cases)]
 
 
 @never_raises("halfturn_axis")
 def check_halfturn_axis(func):
     r"""Exercise 4.3: ``func(R)`` must return a unit axis ``n`` of a rotation by pi,
-    ``R + I = 2 n n^T`` (notebook 04, (4.13) and (4.14)); either sign is accepted.
+    ``R + I = 2 n n^T`` (notebook 04, (4.13)); either sign is accepted.
 
+    Tests the defining property: ``n`` has length 1 and ``2 n n^T - I`` is ``R``.
     Recognises a column that is not normalised, :math:`\pi n` in place of ``n``, and the
     zero column (NaN) that comes from always taking the first column.
     """
     name = "halfturn_axis"
     if func is None or func is Ellipsis or not callable(func):
         return check_function(func, None, [], name)
-    for label, R, n0 in _halfturn_inputs():
-        try:
-            got = func(R.copy())
-        except NotImplementedError:
-            return Feedback(False, f"Not yet: {name}. Not written yet: the function still "
-                                   "raises NotImplementedError.")
-        except Exception as err:
-            return Feedback(False, f"Not yet: {name}. For {label} it raised "
-                                   f"{type(err).__name__}: {err}\nHint: the axis is a "
-                                   "column of R + I, divided by its length.")
-        if got is None:
-            return Feedback(False, f"Not yet: {name}. It returned None for {label}: is the "
-                                   "`return` missing?")
+    for label, R in _halfturn_inputs():
+        got, fail = _call(func, name, label, R)
+        if fail is not None:
+            if "raised" in fail.message:
+                return Feedback(False, fail.message + "\nHint: the axis is a column of "
+                                                      "R + I, divided by its length.")
+            return fail
         a = _as_float(got)
         if a is None:
             return Feedback(False, f"Not yet: {name}. For {label} it returned a "
@@ -162,139 +314,28 @@ def check_halfturn_axis(func):
                                    f"{a.shape}; expected a vector of shape (3,).")
         if not np.isfinite(a).all():
             return Feedback(False, f"Not yet: {name}. For {label} it returned "
-                                   f"{np.round(a, 4).tolist()}, with NaN or inf.\nHint: a "
-                                   "column of R + I is 2 n_j n, which is zero when n_j = 0. "
-                                   "Take the column j with the largest diagonal entry "
-                                   "R[j, j]: then 2 n_j^2 = R[j, j] + 1 >= 2/3.")
-        if min(np.abs(a - n0).max(), np.abs(a + n0).max()) <= 1e-8:
+                                   f"{_fmt(a)}, with NaN or inf.\nHint: a column of R + I "
+                                   "is 2 n_j n, which is zero when n_j = 0. Take the column "
+                                   "j with the largest diagonal entry R[j, j]: then "
+                                   "2 n_j^2 = R[j, j] + 1 >= 2/3.")
+        length = float(np.linalg.norm(a))
+        if abs(length - 1) <= 1e-8 and np.abs(_halfturn(a) - R).max() <= 1e-8:
             continue
-        length = np.linalg.norm(a)
-        if np.isclose(length, np.pi, rtol=1e-8) and \
-                min(np.abs(a / np.pi - n0).max(), np.abs(a / np.pi + n0).max()) <= 1e-8:
+        u = a / length if length > 0 else a
+        along = length > 0 and np.abs(_halfturn(u) - R).max() <= 1e-8
+        if along and abs(length - np.pi) <= 1e-7:
             hint = "That is the logarithm pi n; the exercise asks for the unit axis n."
-        elif length > 0 and min(np.abs(a / length - n0).max(),
-                                np.abs(a / length + n0).max()) <= 1e-8:
+        elif along:
             hint = (f"Right direction, but length {length:.4g}: divide the column by its "
                     "length, sqrt(2 (R[j, j] + 1)).")
         else:
             hint = ("R + I = 2 n n^T, so every column of R + I is a multiple of n: take "
                     "the one with the largest diagonal entry and normalise it.")
-        return Feedback(False, f"Not yet: {name}. For {label} it returned "
-                               f"{np.round(a, 4).tolist()}; expected +-"
-                               f"{np.round(n0, 4).tolist()}.\nHint: {hint}")
+        return Feedback(False, f"Not yet: {name}. For {label} it returned {_fmt(a)}, "
+                               "which is not its axis: 2 n n^T - I differs from R by "
+                               f"{np.abs(_halfturn(u) - R).max():.2g}.\nHint: {hint}")
     return Feedback(True, f"Correct: {name}. It finds the axis (up to its sign, which is "
                           "free at a half-turn) of 6 half-turns.")
-
-
-# --------------------------------------------------------------------------- 4.2
-
-def all_logs(R, bound):
-    r"""Every rotation vector :math:`\varphi` with :math:`e^{\hat\varphi} = R` and
-    :math:`\lVert\varphi\rVert < \mathrm{bound}`, one per row, in increasing length.
-
-    .. math:: \exp^{-1}(R) = \{(\theta + 2\pi k)\,n : k \in \mathbb Z\}
-
-    for a rotation of principal angle :math:`0 < \theta < \pi` (notebook 04, (4.12));
-    the reference answer of exercise 4.2. Rows with ``k < 0`` point along ``-n`` and
-    have length :math:`2\pi|k| - \theta`.
-
-    Parameters
-    ----------
-    R : array_like, shape (3, 3), with angle strictly between 0 and pi
-    bound : float
-
-    Returns
-    -------
-    phis : ndarray, shape (m, 3)
-    """
-    phi = log(R)
-    theta = float(np.linalg.norm(phi))
-    n = phi / theta
-    kmax = int(np.ceil(bound / (2 * np.pi))) + 1
-    lengths = [theta + 2 * np.pi * k for k in range(-kmax, kmax + 1)]
-    lengths = sorted((t for t in lengths if abs(t) < bound), key=abs)
-    return np.array([t * n for t in lengths]).reshape(-1, 3)
-
-
-_ALL_LOG_INPUTS = [
-    (exp([0.0, 0.0, 1.0]), 7.0),
-    (exp([0.3, -0.4, 1.2]), 10.0),
-    (exp(2.5 * np.array([2.0, -1.0, 2.0]) / 3.0), 20.0),
-]
-
-
-def _match_rows(got, expected, atol=1e-8):
-    """True when the rows of ``got`` are those of ``expected`` in some order."""
-    if got.shape != expected.shape:
-        return False
-    left = list(range(len(expected)))
-    for row in got:
-        hit = next((i for i in left if np.allclose(row, expected[i], atol=atol)), None)
-        if hit is None:
-            return False
-        left.remove(hit)
-    return True
-
-
-@never_raises("all_logs")
-def check_all_logs(func):
-    r"""Exercise 4.2: ``func(R, bound)`` must return, one per row and in any order, every
-    :math:`(\theta + 2\pi k)\,n` shorter than ``bound``.
-
-    Recognises the usual slip: only ``k >= 0``, forgetting the logarithms that point along
-    ``-n``.
-    """
-    name = "all_logs"
-    if func is None or func is Ellipsis or not callable(func):
-        return check_function(func, None, [], name)
-    for R, bound in _ALL_LOG_INPUTS:
-        expected = all_logs(R, bound)
-        theta = float(angle(R))
-        label = (f"all_logs(R, {bound:g}) with R a rotation by {theta:.4g} rad about "
-                 f"{np.round(log(R) / theta, 4).tolist()}")
-        try:
-            got = func(R.copy(), bound)
-        except NotImplementedError:
-            return Feedback(False, f"Not yet: {name}. Not written yet: the function still "
-                                   "raises NotImplementedError.")
-        except Exception as err:
-            return Feedback(False, f"Not yet: {name}. Calling {label} raised "
-                                   f"{type(err).__name__}: {err}")
-        if got is None:
-            return Feedback(False, f"Not yet: {name}. {label} returned None: is the "
-                                   "`return` missing?")
-        a = _as_float(got)
-        if a is None:
-            return Feedback(False, f"Not yet: {name}. {label} returned something that is "
-                                   "not an array of numbers (a list of 3-vectors is fine).")
-        if a.ndim == 1 and a.shape == (3,):
-            a = a[None, :]
-        if a.ndim != 2 or a.shape[1] != 3:
-            return Feedback(False, f"Not yet: {name}. {label} returned shape {a.shape}; "
-                                   f"expected shape (m, 3), one rotation vector per row "
-                                   f"(here m = {len(expected)}).")
-        if not np.isfinite(a).all():
-            return Feedback(False, f"Not yet: {name}. {label} returned NaN or inf.")
-        if _match_rows(a, expected):
-            continue
-        lengths = np.sort(np.linalg.norm(a, axis=1))
-        why = (f"{label} returned {len(a)} vectors of lengths "
-               f"{np.round(lengths, 4).tolist()}; expected {len(expected)}, of lengths "
-               f"{np.round(np.linalg.norm(expected, axis=1), 4).tolist()}.")
-        forward = expected[expected @ log(R) > 0]
-        if _match_rows(a, forward):
-            hint = ("You have the k >= 0 ones. The k < 0 ones, (theta - 2 pi |k|) n, point "
-                    "along -n and have length 2 pi |k| - theta: turning the other way round "
-                    "reaches the same R.")
-        elif len(a) == len(expected):
-            hint = ("The count is right; check each vector: exp(phi) should equal R for "
-                    "every row.")
-        else:
-            hint = ("The logarithms are (theta + 2 pi k) n for every integer k; keep those "
-                    "with |theta + 2 pi k| < bound.")
-        return Feedback(False, f"Not yet: {name}. {why}\nHint: {hint}")
-    return Feedback(True, f"Correct: {name}. It finds every logarithm below the bound for "
-                          f"{len(_ALL_LOG_INPUTS)} rotations.")
 
 
 # --------------------------------------------------------------------------- 4.4
@@ -305,45 +346,102 @@ _PI_AXES = [
     np.array([-0.8, 0.6, 0.0]),
     np.array([0.0, 0.6, -0.8]),
     np.array([1.0, -2.0, 2.0]) / 3.0,      # two largest components of equal size
+    np.array([-0.6, 0.0, 0.8]),
+    np.array([0.6, 0.0, -0.8]),
 ]
 
+#: The functions whose call counts as "calling a logarithm" in exercise 4.4.
+_LOG_NAMES = {"log", "angle", "_log_one", "_log_block", "_near_pi"}
 
-def _log_at_pi_ref(n):
-    return log(_halfturn(n))
 
+def _logarithms_called(func, *args):
+    """Run ``func(*args)``; return its result (or the exception) and the names of the
+    logarithm functions it called: so3lib's ``log`` and ``angle`` (and their helpers),
+    and anything in SciPy's ``scipy.spatial.transform``."""
+    so3_file = _so3.__file__
+    seen = []
 
-def _first_nonzero_positive(n):
-    n = np.asarray(n, dtype=float)
-    k = int(np.flatnonzero(np.abs(n) > 1e-12)[0])
-    return np.pi * n * np.sign(n[k])
+    def watch(frame, event, arg):
+        if event == "call":
+            code = frame.f_code
+            path = code.co_filename.replace("\\", "/")
+            if (code.co_filename == so3_file and code.co_name in _LOG_NAMES) or \
+                    "scipy/spatial/transform" in path:
+                seen.append(code.co_name)
+
+    previous = sys.getprofile()
+    sys.setprofile(watch)
+    try:
+        out = func(*args)
+    except Exception as err:  # noqa: BLE001 (reported by the caller)
+        out = err
+    finally:
+        sys.setprofile(previous)
+    return out, seen
 
 
 @never_raises("log_at_pi")
 def check_log_at_pi(func):
     r"""Exercise 4.4: ``func(n)`` must predict ``so3lib.log(2 n n^T - I)``, the logarithm
-    so3lib picks among :math:`\pm\pi n` for an exactly symmetric half-turn.
+    so3lib picks among :math:`\pm\pi n` for an exactly symmetric half-turn, without
+    calling a logarithm (so3lib's ``log`` or ``angle``, or SciPy's rotations): the
+    checker watches the calls.
 
-    Recognises :math:`\pi n` returned as given (ignoring the convention) and the other
-    common convention, "first nonzero component positive".
+    Recognises a call to a logarithm, :math:`\pi n` returned as given (ignoring the
+    convention) and the other common convention, "first nonzero component positive".
     """
     name = "log_at_pi"
-    fb = check_function(func, _log_at_pi_ref, [(n,) for n in _PI_AXES], name,
-                        atol=1e-10, rtol=1e-10)
-    if fb or _unanswered(fb):
-        return fb
-    hint = ("so3lib.log returns the one of +-pi n whose largest component (in absolute "
+    if func is None or func is Ellipsis or not callable(func):
+        return check_function(func, None, [], name)
+    outs = []
+    for n in _PI_AXES:
+        label = f"n = {_fmt(n)}"
+        got, called = _logarithms_called(func, n.copy())
+        if isinstance(got, NotImplementedError):
+            return _not_written(name)
+        if isinstance(got, Exception):
+            return Feedback(False, f"Not yet: {name}. For {label} it raised "
+                                   f"{type(got).__name__}: {got}")
+        if called:
+            return Feedback(False, f"Not yet: {name}. It calls {called[0]}, a "
+                                   "logarithm: the exercise asks you to predict the answer "
+                                   "from n alone.\nHint: read the rule in help(log), under "
+                                   "Notes, and write it with NumPy.")
+        if got is None:
+            return Feedback(False, f"Not yet: {name}. It returned None for {label}: is the "
+                                   "`return` missing?")
+        a = _as_float(got)
+        if a is None or a.shape != (3,):
+            shape = "something that is not numbers" if a is None else f"shape {a.shape}"
+            return Feedback(False, f"Not yet: {name}. For {label} it returned {shape}; "
+                                   "expected a rotation vector of shape (3,).")
+        if not np.isfinite(a).all():
+            return Feedback(False, f"Not yet: {name}. For {label} it returned NaN or inf.")
+        outs.append(a)
+    wrong = [(n, a) for n, a in zip(_PI_AXES, outs)
+             if np.abs(a - log(_halfturn(n))).max() > 1e-10]
+    if not wrong:
+        return Feedback(True, f"Correct: {name}. It predicts so3lib's choice of sign for "
+                              f"{len(_PI_AXES)} half-turns, without calling a logarithm.")
+    n, a = wrong[0]
+    if min(np.abs(a - np.pi * n).max(), np.abs(a + np.pi * n).max()) > 1e-10:
+        return Feedback(False, f"Not yet: {name}. For n = {_fmt(n)} it returned {_fmt(a)}, "
+                               "which is not +-pi n, so not a logarithm of the half-turn "
+                               "at all.\nHint: the answer is pi n or -pi n; the rule picks "
+                               "the sign.")
+    rule = ("so3lib.log returns the one of +-pi n whose largest component (in absolute "
             "value; the first, if two are equally large) is positive.")
-    probes = _PI_AXES + [np.array([-0.6, 0.0, 0.8]), np.array([0.6, 0.0, -0.8])]
-    outs = [_try_call(func, n) for n in probes]
-    if all(o is not None and o.shape == (3,) for o in outs):
-        if all(np.allclose(o, np.pi * n, atol=1e-10) for o, n in zip(outs, probes)):
-            hint = ("You returned pi n as given. Both +pi n and -pi n are logarithms of the "
-                    "half-turn, and the matrix 2 n n^T - I does not know which n you started "
-                    "from, so so3lib picks one by a rule. " + hint)
-        elif all(np.allclose(o, _first_nonzero_positive(n), atol=1e-10)
-                 for o, n in zip(outs, probes)):
-            hint = ("You made the first nonzero component positive. That is a fine "
-                    "convention, but so3lib looks at the largest component (in absolute "
-                    "value; the first of equally large ones), the one the half-turn "
-                    "construction divides by.")
-    return Feedback(False, fb.message + "\nHint: " + hint)
+    if all(np.allclose(o, np.pi * m, atol=1e-10) for o, m in zip(outs, _PI_AXES)):
+        hint = ("You returned pi n as given. Both +pi n and -pi n are logarithms of the "
+                "half-turn, and the matrix 2 n n^T - I does not know which n you started "
+                "from, so so3lib picks one by a rule. " + rule)
+    elif all(np.allclose(o, np.pi * m * np.sign(m[np.flatnonzero(np.abs(m) > 1e-12)[0]]),
+                         atol=1e-10) for o, m in zip(outs, _PI_AXES)):
+        hint = ("You made the first nonzero component positive. That is a fine convention, "
+                "but so3lib looks at the largest component (in absolute value; the first "
+                "of equally large ones), the one the half-turn construction divides by.")
+    else:
+        hint = rule
+    return Feedback(False, f"Not yet: {name}. For n = {_fmt(n)} it returned {_fmt(a)}: a "
+                           "logarithm of the half-turn, but not the sign so3lib picks."
+                           f"\nHint: {hint}")

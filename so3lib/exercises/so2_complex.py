@@ -8,21 +8,33 @@ exercise       the learner writes                          checker
 3.2            ``R_end``, the 2x2 rotation reached with    :func:`check_varying_rate`
                the rate :math:`\omega(t) = \omega_0 + a t`
                at ``t = T_END``
-3.3            ``quaternion(n, theta)``, the unit          :func:`check_quaternion`
-               quaternion ``(w, x, y, z)`` of the
-               rotation by ``theta`` about ``n``
+3.3            ``unflip(qs)``, a logged sequence of unit   :func:`check_unflip`
+               quaternions with the sign jumps removed
+               (the double cover)
 =============  ==========================================  ==============================
 
-Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises.
+Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises. A checker
+holds no answer: it tests the defining property of one (``cos`` and ``sin`` of the angle
+give ``R``'s first column; ``R_end`` solves ``dR/dt = R omega(t) J``; each row is
+``+-q_k`` and neighbours are close) and names the usual mistake, but never prints the
+expected value.
 """
 
 import numpy as np
 
 from .. import so2
-from . import Feedback, check_function, check_value, never_raises
+from . import Feedback, check_function, never_raises
 
-__all__ = ["check_so2_log", "check_varying_rate", "check_quaternion", "quaternion",
-           "OMEGA0", "ACCEL", "T_END"]
+__all__ = [
+    "ACCEL",
+    "OMEGA0",
+    "Q33",
+    "T_END",
+    "check_so2_log",
+    "check_unflip",
+    "check_varying_rate",
+    "logged_quaternions",
+]
 
 #: Exercise 3.2: the rate starts at OMEGA0 = omega_0 (rad/s) and grows by ACCEL = a
 #: (rad/s every second, rad/s^2) ...
@@ -36,11 +48,20 @@ def _angle_matrix(theta):
     return so2.exp(float(theta))
 
 
+def _fmt(a):
+    return np.array2string(np.asarray(a, dtype=float) + 0.0, precision=4,
+                           suppress_small=True, separator=", ")
+
+
+def _not_answered(fb):
+    return any(s in fb.message for s in ("No answer yet", "Not written yet",
+                                         "Expected a function"))
+
+
 # Simplest first: the message names the first input on which an answer goes wrong.
 # -0.7 catches arccos (no sign), 2.5 and -2.5 catch arctan(R21 / R11) (wrong quadrant),
 # 4.0 needs wrapping into (-pi, pi].
 _LOG_ANGLES = (0.5, -0.7, 2.5, -2.5, 4.0)
-_LOG_INPUTS = [(_angle_matrix(t),) for t in _LOG_ANGLES]
 
 
 def _try_call(func, *args):
@@ -48,21 +69,21 @@ def _try_call(func, *args):
     try:
         out = np.asarray(func(*args), dtype=float)
         return out if np.isfinite(out).all() else None
-    except Exception:
+    except Exception:  # noqa: BLE001 (a checker never raises)
         return None
 
 
 def _so2_log_hint(func):
-    """Recognise the two usual slips of exercise 3.1 and say what went wrong."""
+    """Recognise the usual slips of exercise 3.1 and say what went wrong."""
     got_neg = _try_call(func, _angle_matrix(-0.7))
     if got_neg is not None and got_neg.shape == () and np.isclose(got_neg, 0.7):
-        return ("For the rotation by -0.7 rad you returned +0.7: the cosine R[0, 0] alone "
-                "cannot tell +theta from -theta (arccos always returns a value in [0, pi]). "
-                "Use the sine R[1, 0] as well.")
+        return ("For so2.exp(-0.7) you returned +0.7: the cosine R[0, 0] alone cannot tell "
+                "+theta from -theta (arccos always returns a value in [0, pi]). Use the "
+                "sine R[1, 0] as well.")
     got_q2 = _try_call(func, _angle_matrix(2.5))
     if got_q2 is not None and got_q2.shape == () and np.isclose(got_q2, 2.5 - np.pi):
-        return ("For the rotation by 2.5 rad you returned 2.5 - pi: arctan(R[1, 0] / R[0, 0]) "
-                "only sees the ratio sin/cos, so it cannot tell the second quadrant from the "
+        return ("For so2.exp(2.5) you returned 2.5 - pi: arctan(R[1, 0] / R[0, 0]) only "
+                "sees the ratio sin/cos, so it cannot tell the second quadrant from the "
                 "fourth. np.arctan2(sine, cosine) looks at both signs.")
     got_deg = _try_call(func, _angle_matrix(0.5))
     if got_deg is not None and got_deg.shape == () and np.isclose(got_deg, np.degrees(0.5)):
@@ -76,16 +97,67 @@ def check_so2_log(func):
     r"""Exercise 3.1: ``func(R)`` must return the angle :math:`\theta \in (-\pi, \pi]` of a
     planar rotation ``R`` (notebook 03, equation (3.12)).
 
-    Tries rotations by 0.5, -0.7, 2.5, -2.5 and 4.0 rad (the last must come back as
-    :math:`4 - 2\pi`), and names the usual slips: arccos of ``R[0, 0]`` (loses the sign)
-    and arctan of the ratio (loses the quadrant).
+    Tests the defining property on so2.exp(t) for t = 0.5, -0.7, 2.5, -2.5 and 4.0: the
+    result lies in :math:`(-\pi, \pi]` and its cosine and sine are ``R[0, 0]`` and
+    ``R[1, 0]``. Names the usual slips: arccos of ``R[0, 0]`` (loses the sign), arctan of
+    the ratio (loses the quadrant), degrees.
     """
     name = "so2_log"
-    fb = check_function(func, so2.log, _LOG_INPUTS, name, atol=1e-10, rtol=1e-10)
-    if fb or "No answer yet" in fb.message or "Not written yet" in fb.message \
-            or "Expected a function" in fb.message:
-        return fb
-    return Feedback(False, fb.message + "\nHint: " + _so2_log_hint(func))
+    if func is None or func is Ellipsis or not callable(func):
+        return check_function(func, None, [], name)
+    for t in _LOG_ANGLES:
+        R = _angle_matrix(t)
+        label = f"so2.exp({t:g})"
+        try:
+            got = func(R.copy())
+        except NotImplementedError:
+            return Feedback(False, f"Not yet: {name}. Not written yet: the function still "
+                                   "raises NotImplementedError.")
+        except Exception as err:  # noqa: BLE001 (the learner's code may raise anything)
+            return Feedback(False, f"Not yet: {name}. Calling it on {label} raised "
+                                   f"{type(err).__name__}: {err}")
+        if got is None:
+            return Feedback(False, f"Not yet: {name}. It returned None on {label}: is the "
+                                   "`return` missing?")
+        try:
+            a = np.asarray(got, dtype=float)
+        except (TypeError, ValueError):
+            return Feedback(False, f"Not yet: {name}. On {label} it returned a "
+                                   f"{type(got).__name__}, not a number.")
+        if a.shape != ():
+            return Feedback(False, f"Not yet: {name}. On {label} the answer has shape "
+                                   f"{a.shape}; expected shape () (one angle).")
+        if not np.isfinite(a):
+            return Feedback(False, f"Not yet: {name}. On {label} the answer is NaN or inf.")
+        theta = float(a)
+        same = abs(np.cos(theta) - R[0, 0]) <= 1e-10 and abs(np.sin(theta) - R[1, 0]) <= 1e-10
+        if same and -np.pi < theta <= np.pi:
+            continue
+        if same:
+            return Feedback(False, f"Not yet: {name}. On {label} it returned {theta:.6g}: "
+                                   "the right rotation, but outside (-pi, pi].\nHint: the "
+                                   "principal angle is the one in (-pi, pi]; np.arctan2 "
+                                   "returns it directly.")
+        return Feedback(False, f"Not yet: {name}. On {label} it returned {theta:.6g}, whose "
+                               "cosine and sine are not R's first column.\nHint: "
+                               + _so2_log_hint(func))
+    return Feedback(True, f"Correct: {name}. Its angles lie in (-pi, pi] and give R back "
+                          f"on {len(_LOG_ANGLES)} rotations.")
+
+
+def _integrate_rate(T, steps=1000):
+    """R(T) for dR/dt = R (omega0 + a t) J, R(0) = I, by the classical Runge-Kutta method:
+    the definition of the motion, with no formula for its answer (error about 1e-13)."""
+    J = so2.J
+    R, h = np.eye(2), T / steps
+    for i in range(steps):
+        t = i * h
+        k1 = R @ ((OMEGA0 + ACCEL * t) * J)
+        k2 = (R + h / 2 * k1) @ ((OMEGA0 + ACCEL * (t + h / 2)) * J)
+        k3 = (R + h / 2 * k2) @ ((OMEGA0 + ACCEL * (t + h / 2)) * J)
+        k4 = (R + h * k3) @ ((OMEGA0 + ACCEL * (t + h)) * J)
+        R = R + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return R
 
 
 @never_raises("the rotation R_end at t = T_END")
@@ -93,98 +165,141 @@ def check_varying_rate(answer):
     r"""Exercise 3.2: the 2x2 rotation reached at ``T_END`` by the rate
     :math:`\omega(t) = \omega_0 + a t` starting from the identity.
 
-    In the plane all rotations commute, so the answer is :math:`e^{J\alpha}` with
-    :math:`\alpha = \int_0^T \omega\,dt = \omega_0 T + a T^2/2` (notebook 03, (3.13)).
-    Recognises the rate taken at the end or at the start instead of its integral, and an
-    angle handed in instead of the matrix.
+    Tests the definition: ``answer`` must agree, within 1e-9, with the solution of
+    :math:`\dot R = R\,\omega(t)J`, :math:`R(0) = I`, integrated numerically (RK4).
+    Recognises the rate taken at the end or at the start instead of its integral, the
+    transpose, and an angle handed in instead of the matrix.
     """
     name = "the rotation R_end at t = T_END"
-    alpha = OMEGA0 * T_END + 0.5 * ACCEL * T_END ** 2
-    expected = so2.exp(alpha)
-    hint = ("Integrate the rate: alpha = int_0^T (omega0 + a t) dt = omega0 T + a T^2 / 2, "
-            "then R_end = so2.exp(alpha).")
+    hint = ("Integrate the rate: in the plane rotations commute, so only the total angle "
+            "int_0^T omega(t) dt matters (3.13); then pass it to so2.exp.")
     if answer is None or answer is Ellipsis:
-        return check_value(answer, expected, name)
+        return Feedback(False, f"Not yet: {name}. No answer yet: replace the `...` with a "
+                               "2x2 rotation matrix and run the cell again.")
     try:
         arr = np.asarray(answer, dtype=float)
-    except Exception:
-        arr = None
-    if arr is not None and np.isfinite(arr).all():
-        if arr.shape == ():
-            extra = (" (and that angle is right)" if np.isclose(float(arr), alpha)
-                     else "")
-            return Feedback(False, f"Not yet: {name}. You gave a number{extra}; the "
-                                   "exercise asks for the 2x2 rotation matrix: pass the "
-                                   "angle to so2.exp.")
-        if arr.shape == (2, 2):
-            for label, wrong in (("the rate at the end times T", (OMEGA0 + ACCEL * T_END) * T_END),
-                                 ("the rate at the start times T", OMEGA0 * T_END)):
-                if np.allclose(arr, so2.exp(wrong), atol=1e-8):
-                    hint = (f"Your matrix turns by {wrong:g} rad, {label}. The rate changes "
-                            "during the motion; the angle is its integral, "
-                            "omega0 T + a T^2 / 2.")
-    return check_value(answer, expected, name, atol=1e-9, rtol=1e-9, hint=hint)
+    except (TypeError, ValueError):
+        return Feedback(False, f"Not yet: {name}. The answer is a {type(answer).__name__}, "
+                               "not a number or an array of numbers.")
+    if not np.isfinite(arr).all():
+        return Feedback(False, f"Not yet: {name}. The answer contains NaN or inf.")
+    if arr.shape == ():
+        return Feedback(False, f"Not yet: {name}. You gave a number; the exercise asks for "
+                               "the 2x2 rotation matrix: pass the angle to so2.exp.")
+    if arr.shape != (2, 2):
+        return Feedback(False, f"Not yet: {name}. The answer has shape {arr.shape}; a "
+                               "planar rotation is a 2x2 matrix.")
+    reached = _integrate_rate(T_END)
+    if np.abs(arr - reached).max() <= 1e-9:
+        return Feedback(True, f"Correct: {name}. It agrees with the motion integrated step "
+                              "by step (RK4).")
+    turned = float(np.arctan2(arr[1, 0], arr[0, 0]))
+    why = f"Your matrix turns by {turned:.4g} rad (mod 2 pi); the motion ends elsewhere."
+    if np.abs(arr - reached.T).max() <= 1e-9:
+        why += " It is the transpose of the rotation reached: it turns the other way."
+    for label, wrong in (("the rate at the end times T", (OMEGA0 + ACCEL * T_END) * T_END),
+                         ("the rate at the start times T", OMEGA0 * T_END)):
+        if np.allclose(arr, so2.exp(wrong), atol=1e-8):
+            hint = (f"Your matrix turns by {label}. The rate changes during the motion; the "
+                    "angle is its integral.")
+    return Feedback(False, f"Not yet: {name}. {why}\nHint: {hint}")
 
 
-def quaternion(n, theta):
-    r"""The unit quaternion :math:`q = \cos(\theta/2) + u \sin(\theta/2)`, ``(w, x, y, z)``.
+# --------------------------------------------------------------------------- 3.3
 
-    ``u = (0, n)`` is the pure quaternion of the unit axis ``n`` (notebook 03, (3.17));
-    the reference answer of exercise 3.3.
-
-    Parameters
-    ----------
-    n : array_like, shape (3,), unit length
-    theta : float, rad
+def logged_quaternions(seed, m=41):
+    r"""A logged attitude: unit quaternions ``(w, x, y, z)`` of a body that turns by
+    :math:`3.2\pi` about a slowly tilting axis, sampled ``m`` times, as a logger stores
+    them: its conversion returns whichever of :math:`\pm q` has :math:`w \ge 0`, and some
+    rows are stored with the other sign. Data for exercise 3.3 (notebook 03).
 
     Returns
     -------
-    q : ndarray, shape (4,), scalar part first
+    qs : ndarray, shape (m, 4)
     """
-    n = np.asarray(n, dtype=float)
-    return np.concatenate([[np.cos(theta / 2)], np.sin(theta / 2) * n])
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 1.0, m)
+    theta = 3.2 * np.pi * t
+    axis = np.stack([np.cos(1.5 * t), np.sin(1.5 * t), np.full_like(t, 1.0)], axis=1)
+    axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+    qs = np.concatenate([np.cos(theta / 2)[:, None], np.sin(theta / 2)[:, None] * axis],
+                        axis=1)
+    flip = (qs[:, 0] < 0) ^ (rng.random(m) < 0.2)
+    flip[0] = False
+    qs[flip] *= -1.0
+    return qs
 
 
-_QUAT_INPUTS = [
-    (np.array([0.0, 0.0, 1.0]), np.pi / 2),
-    (np.array([1.0, -2.0, 2.0]) / 3.0, 2.0),
-    (np.array([0.6, 0.0, 0.8]), 5.0),
-    (np.array([0.0, 1.0, 0.0]), 0.0),
-]
+#: Exercise 3.3: a logged attitude with sign jumps, one quaternion (w, x, y, z) per row.
+Q33 = logged_quaternions(33)
+Q33.setflags(write=False)
+
+_UNFLIP_INPUTS = [Q33, logged_quaternions(7, 30), logged_quaternions(2026, 57)]
 
 
-def _quat_hint(func):
-    for n, theta in _QUAT_INPUTS[:3]:
-        got = _try_call(func, n.copy(), theta)
-        if got is None or got.shape != (4,):
+@never_raises("unflip")
+def check_unflip(func):
+    r"""Exercise 3.3: ``func(qs)`` must return the logged quaternions with the sign jumps
+    removed.
+
+    Tests the defining properties on three logs: the same shape; row 0 unchanged; every
+    row ``+-`` the logged one (the same rotation, by the double cover); and neighbouring
+    rows close, :math:`q_k \cdot q_{k-1} > 0`. Recognises the usual slip, comparing a row
+    with the *logged* previous row instead of the corrected one, and the logger's own
+    rule (:math:`w \ge 0`), which is what made the jumps.
+    """
+    name = "unflip"
+    if func is None or func is Ellipsis or not callable(func):
+        return check_function(func, None, [], name)
+    for i, qs in enumerate(_UNFLIP_INPUTS):
+        label = "Q33" if i == 0 else f"test log {i + 1} ({len(qs)} rows)"
+        try:
+            got = func(np.array(qs, copy=True))
+        except NotImplementedError:
+            return Feedback(False, f"Not yet: {name}. Not written yet: the function still "
+                                   "raises NotImplementedError.")
+        except Exception as err:  # noqa: BLE001 (the learner's code may raise anything)
+            return Feedback(False, f"Not yet: {name}. On {label} it raised "
+                                   f"{type(err).__name__}: {err}")
+        if got is None:
+            return Feedback(False, f"Not yet: {name}. It returned None on {label}: is the "
+                                   "`return` missing?")
+        try:
+            a = np.asarray(got, dtype=float)
+        except (TypeError, ValueError):
+            return Feedback(False, f"Not yet: {name}. On {label} it returned a "
+                                   f"{type(got).__name__}, not an array of numbers.")
+        if a.shape != qs.shape:
+            return Feedback(False, f"Not yet: {name}. On {label} it returned shape "
+                                   f"{a.shape}; expected the input's shape {qs.shape}.")
+        if not np.isfinite(a).all():
+            return Feedback(False, f"Not yet: {name}. On {label} it returned NaN or inf.")
+        if np.abs(a[0] - qs[0]).max() > 1e-12:
+            return Feedback(False, f"Not yet: {name}. On {label} row 0 changed; keep the "
+                                   "first quaternion as logged, and fix the others to "
+                                   "follow it.")
+        plus = np.abs(a - qs).max(axis=1) <= 1e-12
+        minus = np.abs(a + qs).max(axis=1) <= 1e-12
+        if not (plus | minus).all():
+            k = int(np.flatnonzero(~(plus | minus))[0])
+            return Feedback(False, f"Not yet: {name}. On {label} row {k} is {_fmt(a[k])}, "
+                                   "neither q_k nor -q_k: that is another rotation.\nHint: "
+                                   "only the sign of a row may change.")
+        dots = np.einsum("ij,ij->i", a[1:], a[:-1])
+        if (dots > 0).all():
             continue
-        q = quaternion(n, theta)
-        if np.allclose(got, -q, atol=1e-9):
-            return ("You returned -q. It gives the same rotation (q and -q both do: the "
-                    "double cover), but the formula asked for is cos(theta/2) + u sin(theta/2); "
-                    "look for a stray minus sign.")
-        if np.allclose(got, quaternion(n, 2 * theta), atol=1e-9):
-            return ("Your quaternion uses the full angle theta. A quaternion turns a vector "
-                    "twice, once from each side in q x conj(q), so it carries theta/2.")
-        if np.allclose(got, np.roll(q, -1), atol=1e-9):
-            return "Your components are (x, y, z, w); the exercise wants the scalar part first."
-    return "q = (cos(theta/2), sin(theta/2) n_x, sin(theta/2) n_y, sin(theta/2) n_z)."
-
-
-@never_raises("quaternion")
-def check_quaternion(func):
-    r"""Exercise 3.3: ``func(n, theta)`` must return :math:`(\cos\frac\theta2,
-    \sin\frac\theta2\, n)`, scalar part first.
-
-    Recognises ``-q`` (the same rotation, another quaternion), the full angle in place of
-    the half angle, and the scalar part written last.
-    """
-    name = "quaternion"
-    fb = check_function(func, quaternion, _QUAT_INPUTS, name, atol=1e-10, rtol=1e-10)
-    if fb:
-        return Feedback(True, f"Correct: {name}. It gives (cos(theta/2), sin(theta/2) n) on "
-                              f"{len(_QUAT_INPUTS)} test inputs.")
-    if "No answer yet" in fb.message or "Not written yet" in fb.message \
-            or "Expected a function" in fb.message:
-        return fb
-    return Feedback(False, fb.message + "\nHint: " + _quat_hint(func))
+        k = int(np.flatnonzero(dots <= 0)[0]) + 1
+        if (a[:, 0] >= 0).all():
+            hint = ("You made every w >= 0. That is the logger's own rule, and it is what "
+                    "made the jumps: a path that turns past pi reaches w < 0 smoothly.")
+        elif minus[k - 1] and a[k] @ qs[k - 1] > 0:
+            hint = ("You compared row k with the *logged* row k - 1, but that row had been "
+                    "flipped itself. Compare with the row you have already corrected.")
+        else:
+            hint = ("Walk down the rows and flip q_k when q_k . q_(k-1) < 0, with q_(k-1) "
+                    "the row you have already corrected.")
+        return Feedback(False, f"Not yet: {name}. On {label} rows {k - 1} and {k} still "
+                               f"jump: their dot product is {dots[k - 1]:.3f}, not "
+                               f"positive.\nHint: {hint}")
+    return Feedback(True, f"Correct: {name}. On {len(_UNFLIP_INPUTS)} logs every row is "
+                          "the logged rotation and neighbours never jump.")

@@ -20,8 +20,8 @@ only with the opposite sign convention ``J' = -J`` (errata N8).
 
 import numpy as np
 
-from .validation import (ROTATION_TOL, as_matrices, as_times, as_tolerance, check_rotation,
-                         check_skew)
+from .validation import (ROTATION_TOL, as_matrices, as_numbers, as_times, as_tolerance,
+                         broadcast_batch, check_batch_axes, check_rotation, check_skew)
 
 __all__ = ["J", "hat", "vee", "exp", "log", "to_complex", "from_complex"]
 
@@ -86,10 +86,12 @@ def exp(theta, tau=1.0):
     """
     theta = as_times(theta, "so2.exp", name="theta")
     tau = as_times(tau, "so2.exp")
+    broadcast_batch(theta.shape, tau, "so2.exp", "theta")
     with np.errstate(over="ignore"):
         t = theta * tau
     if not np.isfinite(t).all():
-        raise ValueError("so2.exp: the angle theta * tau overflows float64")
+        raise ValueError("so2.exp: the angle theta * tau overflows float64; expected "
+                         "|theta * tau| below about 1.8e308")
     c, s = np.cos(t), np.sin(t)
     return np.stack([np.stack([c, -s], axis=-1), np.stack([s, c], axis=-1)], axis=-2)
 
@@ -107,6 +109,8 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
     ----------
     R : array_like, shape (..., 2, 2)
     tau : float or array_like, nonzero
+        Broadcasts against the leading shape of ``R``. A ``tau`` so small that the angle
+        divided by it overflows float64 is refused.
     check : bool
         Refuse matrices that are not rotations within ``tol`` (default).
     tol : float
@@ -119,12 +123,21 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
     if check:
         check_rotation(R, as_tolerance(tol, "so2.log"), "so2.log")
     tau = as_times(tau, "so2.log", nonzero=True)
+    broadcast_batch(R.shape[:-2], tau, "so2.log", "R")
     s, c = R[..., 1, 0], R[..., 0, 0]
     # On the cut (s = 0, c < 0) atan2 gives -pi for s = -0.0; return +pi there. A tiny
     # negative s is not on the cut: its angle rounds to the double -3.141592653589793,
     # which lies just above the true -pi.
     theta = np.where((s == 0) & (c < 0), np.pi, np.arctan2(s, c))
-    out = theta / tau
+    with np.errstate(over="ignore"):           # reported below
+        out = theta / tau
+    if not np.isfinite(out).all():
+        idx = tuple(int(i) for i in np.argwhere(~np.isfinite(out))[0]) if out.ndim else ()
+        t = float(np.broadcast_to(tau, out.shape)[idx])
+        where = f" at index [{', '.join(map(str, idx))}]" if idx else ""
+        raise ValueError(f"so2.log divides the angle by tau, and the quotient overflows "
+                         f"float64{where}: tau = {t:.3g} is too small; expected |tau| of at "
+                         f"least |angle| / 1.7e308 (|tau| >= 1.9e-308 always works)")
     return out[()] if out.ndim == 0 else out
 
 
@@ -143,13 +156,8 @@ def from_complex(z):
     -------
     M : ndarray, shape (..., 2, 2)
     """
-    try:
-        arr = np.asarray(z)
-    except (ValueError, TypeError) as err:
-        raise ValueError(f"so2.from_complex expects complex numbers; could not read z ({err})")
-    if arr.dtype.kind not in "iufc":
-        raise ValueError(f"so2.from_complex expects complex numbers; got dtype {arr.dtype}")
-    arr = arr.astype(np.complex128)
+    arr = as_numbers(z, "z", "so2.from_complex", complex_ok=True)
+    check_batch_axes(arr, 0, "z", "so2.from_complex")
     if not np.isfinite(arr).all():
         raise ValueError("so2.from_complex expects finite complex numbers; z has NaN or inf")
     a, b = arr.real, arr.imag

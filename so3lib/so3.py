@@ -30,8 +30,9 @@ surjectivity of exp).
 
 import numpy as np
 
-from .validation import (ROTATION_TOL, as_matrices, as_times, as_tolerance, as_vectors,
-                         broadcast_batch, check_rotation, check_skew, rotation_defects)
+from .validation import (MAX_BATCH_AXES, ROTATION_TOL, as_matrices, as_times, as_tolerance,
+                         as_vectors, broadcast_batch, check_rotation, check_skew,
+                         rotation_defects)
 
 __all__ = ["hat", "vee", "exp", "log", "angle", "is_rotation", "random_rotation"]
 
@@ -515,29 +516,23 @@ def random_rotation(rng=None, size=None):
     Parameters
     ----------
     rng : numpy.random.Generator, int or None
-        A generator, or a seed for one. Pass one for reproducible notebooks.
+        A generator, or a nonnegative int seed for one. Pass one for reproducible
+        notebooks. ``True``, floats and strings are refused.
     size : None, int or tuple of int
-        Batch shape; ``None`` gives a single (3, 3) matrix.
+        Batch shape (nonnegative ints; not ``True``, ``2.7`` or ``"3"``); ``None`` gives a
+        single (3, 3) matrix.
 
     Returns
     -------
     R : ndarray, shape (*size, 3, 3)
     """
-    if rng is None or isinstance(rng, (int, np.integer)):
+    if rng is None or (isinstance(rng, (int, np.integer)) and not isinstance(rng, bool)
+                       and rng >= 0):
         rng = np.random.default_rng(rng)
     elif not isinstance(rng, np.random.Generator):
-        raise ValueError("random_rotation expects rng as a numpy.random.Generator, an int "
-                         f"seed or None; got {type(rng).__name__}")
-    if size is None:
-        shape = ()
-    else:
-        try:
-            shape = (int(size),) if np.ndim(size) == 0 else tuple(int(k) for k in size)
-        except (TypeError, ValueError):
-            shape = None
-        if shape is None or any(k < 0 for k in shape):
-            raise ValueError("random_rotation expects size as None, a nonnegative int or a "
-                             f"tuple of them; got {size!r}")
+        raise ValueError("random_rotation expects rng as a numpy.random.Generator, a "
+                         f"nonnegative int seed or None; got {rng!r} ({type(rng).__name__})")
+    shape = _batch_shape(size)
     g = rng.standard_normal(shape + (4,))
     norm = np.sqrt(np.einsum("...i,...i->...", g, g))
     w, vec = g[..., 0] / norm, g[..., 1:] / norm[..., None]
@@ -545,3 +540,21 @@ def random_rotation(rng=None, size=None):
     diag = w * w - np.einsum("...i,...i->...", vec, vec)
     R += diag[..., None, None] * np.eye(3)
     return R
+
+
+def _batch_shape(size):
+    """``size`` of :func:`random_rotation` as a shape tuple, or ValueError."""
+    def is_count(k):
+        return (isinstance(k, (int, np.integer)) and not isinstance(k, (bool, np.bool_))
+                and 0 <= k < 2**63)
+    if size is None:
+        return ()
+    if is_count(size):
+        return (int(size),)
+    if isinstance(size, (tuple, list)) and all(map(is_count, size)):
+        if len(size) > MAX_BATCH_AXES:
+            raise ValueError(f"random_rotation expects at most {MAX_BATCH_AXES} batch axes; "
+                             f"size has {len(size)}")
+        return tuple(int(k) for k in size)
+    raise ValueError("random_rotation expects size as None, a nonnegative int or a tuple "
+                     f"of them; got {size!r} ({type(size).__name__})")

@@ -21,6 +21,7 @@ reflections.  The logarithm of an accepted matrix at distance ``delta`` from SO(
 within about ``pi * delta`` of the logarithm of the nearest rotation (spec S23).
 """
 
+import datetime
 import math
 
 import numpy as np
@@ -36,10 +37,18 @@ __all__ = [
     "check_skew",
     "as_tolerance",
     "broadcast_batch",
+    "MAX_BATCH_AXES",
+    "show",
+    "as_numbers",
+    "check_batch_axes",
 ]
 
 #: Default tolerance of the rotation test (see the module docstring).
 ROTATION_TOL = 1e-6
+
+#: Most leading (batch) axes an argument may have: NumPy's iterators over several arrays
+#: stop at 32 dimensions.
+MAX_BATCH_AXES = 32
 
 #: Relative tolerance of the skew-symmetry test in ``vee``: ``|M + M^T| <= SKEW_RTOL * |M|``.
 SKEW_RTOL = 1e-8
@@ -59,28 +68,134 @@ def _index(idx):
     return "[" + ", ".join(str(int(i)) for i in idx) + "]" if len(idx) else ""
 
 
-def _as_real_array(x, name, func):
-    """Return ``x`` as a float64 array, or raise ValueError if it is not real numbers."""
+def show(x, ref=1.0):
+    """``x`` with just enough digits to tell it from ``ref``, for messages.
+
+    ``1 + 4e-7`` prints as ``1.0000004``, not as ``1``: a message that prints the defect
+    as the expected value hides it.
+    """
+    x = float(x)
+    for digits in range(3, 17):
+        if x == ref or float(f"{x:.{digits}g}") != ref:
+            return f"{x:.{digits + (x != ref and digits > 3)}g}"   # and one digit more
+    return repr(x)
+
+
+def _describe(e):
+    """What an element of an object array is, when it is not a real number; else None."""
+    if e is None:
+        return "None"
+    if isinstance(e, (str, bytes, np.str_, np.bytes_)):
+        return f"the text {e!r} (a {type(e).__name__}, not a number)"
+    if isinstance(e, (bool, np.bool_)):
+        return f"the boolean {e!r}"
+    if isinstance(e, (complex, np.complexfloating)):
+        return f"the complex number {e!r}"
+    if isinstance(e, (np.datetime64, np.timedelta64, datetime.date, datetime.time,
+                      datetime.timedelta)):
+        return f"a date or time ({type(e).__name__})"
+    if isinstance(e, int):
+        try:
+            float(e)
+        except OverflowError:
+            return (f"an int with {len(str(abs(e)))} digits, too large for a float "
+                    f"(the largest is about 1.8e308)")
+        return None
+    try:
+        float(e)
+    except OverflowError:
+        return f"{type(e).__name__} too large for a float (the largest is about 1.8e308)"
+    except (TypeError, ValueError):
+        return f"a {type(e).__name__}, not a number"
+    return None
+
+
+def _object_to_float(arr, name, func, complex_ok=False):
+    """An object array of numbers as float64 (complex128 with ``complex_ok``); ValueError
+    naming the first element that is not a number."""
+    out = np.empty(arr.shape, dtype=np.complex128 if complex_ok else np.float64)
+    flat = out.reshape(-1)
+    convert = complex if complex_ok else float
+    for k, e in enumerate(arr.reshape(-1).tolist() if arr.ndim else [arr.item()]):
+        what = _describe(e)
+        if complex_ok and isinstance(e, (complex, np.complexfloating)):
+            what = None
+        if what is not None:
+            idx = np.unravel_index(k, arr.shape) if arr.ndim else ()
+            where = f"{name}{_index(idx)}" if idx else name
+            kind = "complex numbers" if complex_ok else "real numbers"
+            raise ValueError(f"{func} expects {name} as {kind}; {where} is {what}")
+        flat[k] = convert(e)
+    return out
+
+
+def as_numbers(x, name, func, complex_ok=False):
+    """Return ``x`` as a float64 array (complex128 with ``complex_ok``), or raise
+    ValueError naming what it holds instead of numbers.
+
+    Refused, each with a message naming what was found: masked arrays (the mask would be
+    ignored), None, text (str and bytes, also inside lists), dates and times
+    (``datetime64``, ``timedelta64``), structured and other non-numeric dtypes, booleans,
+    complex numbers, object arrays holding any of these, numbers too large for a float
+    (a Python int above 1.8e308, or a long double), and ragged nested lists.
+    """
+    if type(x) is np.ndarray and x.dtype == _FLOAT64 and not complex_ok:
+        return x                                # the usual case: nothing to convert
+    if isinstance(x, np.ma.MaskedArray):
+        raise ValueError(f"{func} expects {name} as a plain array of numbers; got a "
+                         f"masked array, whose mask would be ignored: fill or drop the "
+                         f"masked entries first ({name}.filled(value) or {name}.compressed())")
+    if x is None:
+        raise ValueError(f"{func} expects {name} as {'complex' if complex_ok else 'real'} "
+                         f"numbers; got None")
     try:
         arr = np.asarray(x)
-    except (ValueError, TypeError) as err:  # ragged nested lists and the like
+    except (ValueError, TypeError, OverflowError) as err:  # ragged nested lists and the like
         raise ValueError(f"{func} expects {name} as an array of real numbers; "
                          f"could not read it as an array ({err})") from None
-    if arr.dtype == _FLOAT64:
+    if arr.dtype == _FLOAT64 and not complex_ok:
         return arr
     kind = arr.dtype.kind
-    if kind == "c":
-        raise ValueError(f"{func} expects {name} as real numbers; got complex values "
-                         f"(dtype {arr.dtype})")
-    if kind == "b":
-        raise ValueError(f"{func} expects {name} as real numbers; got booleans")
-    if kind not in "iuf":
-        try:
-            arr = arr.astype(np.float64)
-        except (ValueError, TypeError):
-            raise ValueError(f"{func} expects {name} as real numbers; got an array of "
-                             f"dtype {arr.dtype}") from None
-    return arr.astype(np.float64, copy=False)
+    got = None
+    if complex_ok and kind in "iufc":
+        return arr.astype(np.complex128)
+    if kind in "iu":
+        return arr.astype(np.float64)
+    if kind == "f":                             # float16, float32, long double
+        with np.errstate(over="raise"):
+            try:
+                return arr.astype(np.float64)
+            except FloatingPointError:
+                got = f"values too large for float64 (dtype {arr.dtype})"
+    elif kind == "O":
+        return _object_to_float(arr, name, func, complex_ok)
+    elif kind == "c":
+        got = f"complex values (dtype {arr.dtype})"
+    elif kind == "b":
+        got = "booleans"
+    elif kind in "US":
+        got = f"text (dtype {arr.dtype}); convert strings to numbers first"
+    elif kind in "Mm":
+        got = (f"dates or times (dtype {arr.dtype}); convert them to plain numbers "
+               f"first, e.g. a duration in seconds: t / np.timedelta64(1, 's')")
+    elif arr.dtype.names is not None:
+        got = f"a structured array with fields {arr.dtype.names} (dtype {arr.dtype})"
+    else:
+        got = f"an array of dtype {arr.dtype}"
+    what = "complex numbers" if complex_ok else "real numbers"
+    raise ValueError(f"{func} expects {name} as {what}; got {got}")
+
+
+def _as_real_array(x, name, func):
+    return as_numbers(x, name, func)
+
+
+def check_batch_axes(arr, core, name, func):
+    """Refuse more than MAX_BATCH_AXES leading axes (NumPy's iterators stop at 32)."""
+    axes = arr.ndim - core
+    if axes > MAX_BATCH_AXES:
+        raise ValueError(f"{func} expects at most {MAX_BATCH_AXES} batch axes; {name} has "
+                         f"{axes} (shape {arr.shape})")
 
 
 def _check_finite(arr, name, func):
@@ -119,6 +234,7 @@ def as_vectors(x, dim, name, func):
     if arr.ndim == 0 or arr.shape[-1] != dim:
         raise ValueError(f"{func} expects {name} of shape (..., {dim}), a {dim}-vector or a "
                          f"batch of them; got shape {arr.shape}")
+    check_batch_axes(arr, 1, name, func)
     _check_finite(arr, name, func)
     return arr
 
@@ -129,6 +245,7 @@ def as_matrices(m, dim, name, func):
     if arr.ndim < 2 or arr.shape[-2:] != (dim, dim):
         raise ValueError(f"{func} expects {name} of shape (..., {dim}, {dim}), a {dim}x{dim} "
                          f"matrix or a batch of them; got shape {arr.shape}")
+    check_batch_axes(arr, 2, name, func)
     _check_finite(arr, name, func)
     return arr
 
@@ -143,6 +260,7 @@ def as_times(tau, func, nonzero=False, name="tau"):
     if type(tau) is float and math.isfinite(tau) and (tau != 0.0 or not nonzero):
         return np.array(tau)                    # the usual case, one number: done
     arr = _as_real_array(tau, name, func)
+    check_batch_axes(arr, 0, name, func)
     _check_finite(arr, name, func)
     if nonzero and (arr == 0).any():
         idx = tuple(np.argwhere(arr == 0)[0])
@@ -189,7 +307,8 @@ def _block_defects(rows, dim):
 def _few_defects(rows, dim):
     """``orth`` and ``det`` of a few matrices given as rows of entries, as lists of floats."""
     found = [_defects(r, dim) for r in rows.tolist()]
-    return [max(map(abs, gram)) for gram, _ in found], [det for _, det in found]
+    return ([math.inf if math.isnan(sum(gram)) else max(map(abs, gram)) for gram, _ in found],
+            [det for _, det in found])
 
 
 def rotation_defects(R):
@@ -202,6 +321,11 @@ def rotation_defects(R):
     det : ndarray, shape (...)
         :math:`\det R`.
     """
+    with np.errstate(all="ignore"):            # huge entries: inf defects, no warnings
+        return _rotation_defects(R)
+
+
+def _rotation_defects(R):
     dim = R.shape[-1]
     if dim not in (2, 3):
         gram = np.einsum("...ki,...kj->...ij", R, R)
@@ -227,12 +351,14 @@ def _first_failure(R, tol):
         for k, r in enumerate(rows.tolist()):
             gram, det = _defects(r, dim)
             orth = max(map(abs, gram))
-            if orth > tol or abs(det - 1.0) > tol:
+            if math.isnan(sum(gram)):           # huge entries: inf - inf
+                orth = math.inf
+            if not (orth <= tol and abs(det - 1.0) <= tol):    # NaN counts as failing
                 return k, orth, det
         return None
     for i in range(0, len(rows), _BLOCK):
         orth, det = _block_defects(rows[i:i + _BLOCK], dim)
-        bad = (orth > tol) | (np.abs(det - 1.0) > tol)
+        bad = ~((orth <= tol) & (np.abs(det - 1.0) <= tol))   # NaN counts as failing
         if bad.any():
             k = int(np.argmax(bad))
             return i + k, float(orth[k]), float(det[k])
@@ -242,9 +368,11 @@ def _first_failure(R, tol):
 def check_rotation(R, tol, func, name="R"):
     """Raise ValueError unless every matrix of ``R`` is a rotation within ``tol``.
 
-    The message names the first failing matrix of a batch and what was measured.
+    The message names the first failing matrix of a batch and what was measured, with
+    enough digits to show the defect (``det = 1.0000015``, never ``det = 1``).
     """
-    failure = _first_failure(R, tol)
+    with np.errstate(all="ignore"):            # huge entries: inf defects, no warnings
+        failure = _first_failure(R, tol)
     if failure is None:
         return
     k, o, d = failure
@@ -252,19 +380,24 @@ def check_rotation(R, tol, func, name="R"):
     which = f"{name}{_index(idx)}" if idx else name
     expected = (f"{func} expects rotation matrices: {name}^T {name} = I and det {name} = +1 "
                 f"within tol={tol:g}")
-    if o <= tol:
-        problem = (f"{which} has det = {d:.6g}: a reflection, not a rotation" if d < 0
-                   else f"{which} has det = {d:.6g}, expected +1")
+    M = R[idx]
+    largest = float(np.abs(M).max())
+    if not (math.isfinite(o) and math.isfinite(d)):
+        problem = (f"{which} has entries as large as {largest:.3g}, so {name}^T {name} "
+                   f"overflows float64 (a rotation's entries are at most 1 in size)")
+    elif o <= tol:
+        problem = (f"{which} has det = {show(d, -1.0)}: a reflection, not a rotation" if d < 0
+                   else f"{which} has det = {show(d)}, which differs from +1 by "
+                        f"{abs(d - 1.0):.2g}")
     else:
         problem = f"{which} is not orthogonal: max|{name}^T {name} - I| = {o:.2e}"
-        M = R[idx]
         gram = M.T @ M
         k2 = np.trace(gram) / M.shape[-1]
         if k2 == 0:
             problem += " (it is the zero matrix)"
         elif np.abs(gram - k2 * np.eye(M.shape[-1])).max() <= tol * k2:
             kind = "rotation" if d > 0 else "reflection"
-            problem += f" (it is a {kind} scaled by {np.sqrt(k2):.6g})"
+            problem += f" (it is a {kind} scaled by {show(np.sqrt(k2))})"
         elif d < 0:
             problem += f", and det = {d:.3g} < 0"
     raise ValueError(f"{expected}; {problem}")
@@ -274,17 +407,19 @@ def check_skew(M, func, name="M", rtol=SKEW_RTOL):
     """Raise ValueError unless every matrix of ``M`` is skew-symmetric.
 
     The test is relative, ``max|M + M^T| <= rtol * max|M|``, so it does not depend on
-    the scale of ``M``; the zero matrix passes.
+    the scale of ``M``; the zero matrix passes. It is computed on ``(M + M^T)/2`` so that
+    entries near the largest float do not overflow.
     """
-    sym = np.abs(M + np.swapaxes(M, -1, -2)).max(axis=(-2, -1))
+    half = np.abs(0.5 * M + 0.5 * np.swapaxes(M, -1, -2)).max(axis=(-2, -1))
     scale = np.abs(M).max(axis=(-2, -1))
-    bad = sym > rtol * scale
+    bad = half > (0.5 * rtol) * scale
     if bad.any():
         idx = tuple(np.argwhere(bad)[0]) if bad.ndim else ()
         which = f"{name}{_index(idx)}" if idx else name
         raise ValueError(f"{func} expects a skew-symmetric matrix ({name}^T = -{name}); "
-                         f"{which} has max|{name} + {name}^T| = {float(sym[idx]):.2e} against "
-                         f"max|{name}| = {float(scale[idx]):.2e}")
+                         f"{which} has max|{name} + {name}^T|/2 = {float(half[idx]):.2e} "
+                         f"against max|{name}| = {float(scale[idx]):.2e} (expected at most "
+                         f"{rtol / 2:g} times that)")
 
 
 def as_tolerance(tol, func):

@@ -1,53 +1,186 @@
-"""`make book`: the course as a static web site, build/book/index.html and one page per notebook.
+"""`make book` and `make pdf`: the course as a Jupyter Book (1.x, sphinx-book-theme).
 
-The landing page says what the course is, lists the notebooks in order with their
-sections, and how to run them. Each notebook is rendered with its stored outputs, a
-contents sidebar and previous / next links; links between notebooks point at the pages.
-MathJax and require.js are unpacked into build/book/vendor/ from the npm registry
-(tools/vendor.py), so the book reads offline: open build/book/index.html in a browser.
+`make book` writes the web site build/book/ (open build/book/index.html); `make pdf` prints
+the same book, as one page, into build/course.pdf with Debian's Chromium.
 
-Usage: python -m tools.book [--out DIR]
+The notebooks are not executed: the book shows their stored outputs. Each notebook in
+notebooks/ (tools.common.course_notebooks, so a new one is picked up) is copied into
+build/book-src/ as the learner reads it:
+
+- speaker notes (slide type `notes`) and grading asserts (tag `hidden-test`) are left out;
+- each run of worked-solution cells (tag `solution`, markdown and code) goes into one
+  collapsed "Show solution" block;
+- a cell tagged `hide-input` shows its output with the code collapsed (myst-nb), and a
+  figure's alt text is the cell's `metadata.mystnb.image.alt` (myst-nb).
+
+The site reads with no network: MathJax 3 comes from the npm registry (tools/vendor.py,
+pinned), the theme's fonts and search index are local, and plotly.js (when plotly is
+installed) is copied from its Python package. Launch buttons (Binder, and a JupyterHub
+through nbgitpuller) and the repository link all come from one setting, the repository
+URL (`--repository-url`, `make book BOOK_REPOSITORY=...`); the hub from `--jupyterhub-url`.
+
+Usage: python -m tools.book [--pdf] [--repository-url URL] [--jupyterhub-url URL]
 """
 
 import argparse
-import html
+import copy
+import os
 import re
+import shutil
 import sys
 from pathlib import Path
+from urllib.parse import unquote
 
+import yaml
 from bs4 import BeautifulSoup
-from nbconvert.exporters import HTMLExporter
-from nbformat.v4 import new_markdown_cell, new_notebook
-from traitlets.config import Config
 
 from tools import vendor
-from tools.common import (BUILD, NOTEBOOKS, TEMPLATES, Stamps, copy_assets, course_notebooks, label,
-                          read, relink, tooling_key, write_atomic)
+from tools.common import BUILD, NOTEBOOKS, course_notebooks, label, read, write_atomic
 
-VENDOR_DIR = "vendor"
 BOOK_TITLE = "The exponential and logarithm of SO(3)"
-TOC_MARK = "<!--COURSE-PAGE-TOC-->"
+SOURCE = BUILD / "book-src"
+OUT = BUILD / "book"
+PRINT_OUT = BUILD / "book-print"
+PDF = BUILD / "course.pdf"
+DOCTREES = BUILD / "book-doctrees"
+STATIC = Path(__file__).resolve().parent / "book_static"
+
+# The one setting the launch buttons and the repository link are made from. A placeholder
+# until the course is published: set it to the course's public GitHub repository.
+REPOSITORY_URL = os.environ.get("BOOK_REPOSITORY", "https://github.com/OWNER/so3-course")
+BRANCH = os.environ.get("BOOK_BRANCH", "main")
+# The JupyterHub that the nbgitpuller launch button opens (placeholder as well).
+JUPYTERHUB_URL = os.environ.get("BOOK_JUPYTERHUB", "https://jupyterhub.example.edu")
+BINDERHUB_URL = "https://mybinder.org"
+
+MATHJAX = "vendor/mathjax3/es5/tex-chtml-full.js"  # inside the book's _static/
+SOLUTION_BEGIN = '<div class="course-solution-begin"></div>'
+SOLUTION_END = '<div class="course-solution-end"></div>'
 
 
-def exporter():
-    c = Config()
-    c.HTMLExporter.mathjax_url = f"{VENDOR_DIR}/{vendor.MATHJAX_JS}"
-    c.HTMLExporter.require_js_url = f"{VENDOR_DIR}/{vendor.REQUIRE_JS}"
-    c.HTMLExporter.extra_template_basedirs = [str(TEMPLATES)]
-    c.HTMLExporter.extra_template_paths = [str(TEMPLATES)]
-    c.HTMLExporter.template_name = "course_book"
-    return HTMLExporter(config=c)
+# ---------------------------------------------------------------------------------------
+# The learner's copy of a notebook
 
 
-def sections(page_html):
-    """(id, text) of each section heading (h2) of a rendered page, in order."""
-    soup = BeautifulSoup(page_html, "html.parser")
-    found = []
-    for h in soup.select(".jp-MarkdownOutput h2[id]"):
-        for a in h.select("a.anchor-link"):
-            a.decompose()
-        found.append((h["id"], h.get_text(" ", strip=True)))
+def _tags(cell):
+    return set(cell.metadata.get("tags", []))
+
+
+def is_speaker_note(cell):
+    return cell.metadata.get("slideshow", {}).get("slide_type") == "notes"
+
+
+def is_hidden_test(cell):
+    return "hidden-test" in _tags(cell)
+
+
+def is_solution(cell):
+    return "solution" in _tags(cell)
+
+
+def _marker(text):
+    from nbformat.v4 import new_markdown_cell
+    cell = new_markdown_cell(text)
+    cell.id = None  # nbformat fills a fresh id below
+    return cell
+
+
+_HEADING_ANCHOR = re.compile(r'^(#{1,6})\s*<a\s+(?:id|name)="([^"]+)"\s*>\s*</a>\s*', re.M)
+
+_NB_FRAGMENT = re.compile(r"\]\(([^()\s#]+\.ipynb)#((?:[^()\s]|\([^()\s]*\))+)\)")
+
+
+def heading_anchors(nbs):
+    """The anchors that headings carry as raw HTML ('### <a id="N15"></a>N15. ...')."""
+    return {m.group(2) for nb in nbs for cell in nb.cells if cell.cell_type == "markdown"
+            for m in _HEADING_ANCHOR.finditer(cell.source)}
+
+
+_HEADING = re.compile(r"^#{1,6}\s+(.+?)\s*$", re.M)
+
+
+def heading_slugs(paths, nbs):
+    """{notebook file: {JupyterLab's anchor of a heading: MyST's anchor of it}}: JupyterLab
+    names '## 2. Integrating' '#2.-Integrating', MyST '#2-integrating'."""
+    from myst_parser.mdit_to_docutils.base import default_slugify
+    found = {}
+    for p, nb in zip(paths, nbs):
+        found[p.name] = {}
+        for cell in nb.cells:
+            if cell.cell_type == "markdown":
+                for m in _HEADING.finditer(_HEADING_ANCHOR.sub(r"\1 ", cell.source)):
+                    found[p.name][m.group(1).replace(" ", "-")] = default_slugify(m.group(1))
     return found
+
+
+def fix_links(source, anchors=(), slugs=None):
+    """'### <a id="N15"></a>N15. ...' becomes a MyST target '(N15)=' above the heading, so
+    that the anchor does not nest inside the page's contents and links to it resolve; a
+    link to it from another notebook ('A1_errata.ipynb#N15') becomes a reference to the
+    target (Sphinx keeps targets in lower case: the page's anchor is '#n15'). A link to a
+    heading by its JupyterLab anchor ('05_x.ipynb#2.-Integrating') gets MyST's anchor."""
+    source = _HEADING_ANCHOR.sub(lambda m: f"({m.group(2)})=\n{m.group(1)} ", source)
+
+    def relink(m):
+        target, frag = m.group(1), m.group(2)
+        if frag in anchors:
+            return f"](#{frag.lower()})"
+        slug = (slugs or {}).get(target, {}).get(unquote(frag))
+        return f"]({target}#{slug})" if slug else m.group(0)
+    return _NB_FRAGMENT.sub(relink, source)
+
+
+def learner_copy(nb, anchors=(), slugs=None):
+    """NB as the book shows it: no speaker notes, no hidden tests, each run of solution
+    cells between two marker cells that the HTML pass turns into one collapsed block."""
+    import nbformat
+    cells, in_solution = [], False
+    for cell in nb.cells:
+        if is_speaker_note(cell) or is_hidden_test(cell):
+            continue
+        if is_solution(cell) != in_solution:
+            cells.append(_marker(SOLUTION_END if in_solution else SOLUTION_BEGIN))
+            in_solution = not in_solution
+        if cell.cell_type == "markdown":
+            cell = copy.deepcopy(cell)
+            cell.source = fix_links(cell.source, anchors, slugs)
+        cells.append(cell)
+    if in_solution:
+        cells.append(_marker(SOLUTION_END))
+    for i, cell in enumerate(cells):
+        if not cell.get("id"):
+            cell.id = f"course-marker-{i}"
+    nb = nbformat.from_dict({**nb, "cells": cells})
+    return nb
+
+
+def missing_alt(nb):
+    """Indices (in the notebook) of the code cells that draw a picture without alt text."""
+    found = []
+    for i, cell in enumerate(nb.cells):
+        if cell.cell_type != "code" or is_hidden_test(cell):
+            continue
+        draws = any(k.startswith("image/") for o in cell.get("outputs", []) for k in o.get("data", {}))
+        alt = cell.metadata.get("mystnb", {}).get("image", {}).get("alt", "")
+        if draws and not str(alt).strip():
+            found.append(i)
+    return found
+
+
+# ---------------------------------------------------------------------------------------
+# Jupyter Book's source folder: notebooks, landing page, _config.yml, _toc.yml
+
+
+def _write_if_changed(path, data):
+    """Write only when the content differs, so that Sphinx rebuilds only changed pages."""
+    path = Path(path)
+    data = data.encode() if isinstance(data, str) else data
+    if path.exists() and path.read_bytes() == data:
+        return
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_bytes(data)
+    os.replace(tmp, path)
 
 
 def _questions():
@@ -56,7 +189,7 @@ def _questions():
     found = {}
     if not start.exists():
         return found
-    row = re.compile(r"^\|\s*\[[^\]]*\]\(([^)#]+)\.ipynb\)\s*\|\s*(.+?)\s*\|\s*$")
+    row = re.compile(r"^\|\s*\[[^\]]*\]\(([^)#]+)\.ipynb\)\s*\|\s*(.+?)\s*\|")
     for cell in read(start).cells:
         if cell.cell_type == "markdown":
             for line in cell.source.splitlines():
@@ -66,119 +199,282 @@ def _questions():
     return found
 
 
-def landing_notebook(pages):
-    """The landing page, as a notebook of markdown cells (rendered like every other page)."""
+def landing_page(paths, nbs):
     questions = _questions()
-    # Raw HTML rather than markdown links: markdown would percent-encode the section ids
-    # differently from nbconvert's headings, and the links would miss their anchors.
-    esc = html.escape
-    contents = ['<ol class="course-contents">']
-    for page in pages:
-        contents.append(f'<li><strong><a href="{esc(page["href"])}">{esc(page["title"])}</a></strong>')
-        if page["stem"] in questions:
-            contents.append(f'<br>{esc(questions[page["stem"]])}')
-        contents.append("<ul>")
-        contents += [f'<li><a href="{esc(page["href"])}#{esc(sid)}">{esc(text)}</a></li>'
-                     for sid, text in page["sections"]]
-        contents.append("</ul></li>")
-    contents.append("</ol>")
-    intro = rf"""
-# {BOOK_TITLE}
+    items = []
+    for p, nb in zip(paths, nbs):
+        q = questions.get(p.stem)
+        items.append(f"1. [{label(nb, p)}]({p.name})" + (f": {q}" if q else ""))
+    contents = "\n".join(items)
+    return rf"""# {BOOK_TITLE}
 
 An open course on the two maps between angular velocities and rotation matrices. Spinning
 at a constant angular velocity $\omega$ for a time $\tau$ gives the rotation
-$$R(\omega, \tau) = e^{{\tau\hat\omega}} = I + \frac{{\sin\theta}}{{\theta}}\,\tau\hat\omega
-  + \frac{{1-\cos\theta}}{{\theta^2}}\,(\tau\hat\omega)^2, \qquad \theta = \lVert\omega\rVert\,\lvert\tau\rvert,$$
+
+$$
+R(\omega, \tau) = e^{{\tau\hat\omega}} = I + \frac{{\sin\theta}}{{\theta}}\,\tau\hat\omega
+  + \frac{{1-\cos\theta}}{{\theta^2}}\,(\tau\hat\omega)^2, \qquad \theta = \lVert\omega\rVert\,\lvert\tau\rvert,
+$$
+
 and the logarithm goes back from $R$ to $\omega$. The course derives both from the power
 series, computes them in floating point without losing digits, takes the logarithm at
 exactly 180°, and shows where its two sources (a set of lecture notes and Gallier's
 textbook) go wrong.
 
 This book is the course read end to end: every notebook with its outputs, as it was last
-run. To change the numbers and run the code, open the notebooks themselves (below).
-"""
-    order = """
+run. Worked solutions sit behind a *Show solution* button under each exercise: try the
+exercise first.
+
 ## The notebooks, in order
 
 Take them in order: each builds on the ones before it.
 
-""" + "\n".join(contents)
-    how = """
+{contents}
+
 ## How to run them
 
+- **With nothing installed**: on a notebook's page, the rocket button at the top opens it
+  on Binder or on your institution's JupyterHub.
 - **On your own machine** (Python 3.11 or newer, and `make`): in the course folder, run
   `make lab`. The first time it installs the pinned packages into `.venv`; then JupyterLab
-  opens `notebooks/00_start_here.ipynb`. Run each notebook top to bottom
-  (*Run → Run All Cells*), then change the numbers and run it again.
-- **With nothing installed**: open the course on Binder or on your institution's
-  JupyterHub; the README of the course folder says how.
+  opens `notebooks/00_start_here.ipynb`. Run each notebook top to bottom, then change the
+  numbers and run it again.
+- **Download** a notebook (the download button at the top of its page) to run it in your
+  own Jupyter.
 - **Exercises** check themselves: write your answer in the empty cell, run the checker
   below it, and read what it says.
-- **Other editions**: `make slides` writes a slide deck per notebook for lectures, and
-  `make student` writes the notebooks without the worked solutions, for coursework.
 """
-    nb = new_notebook(cells=[new_markdown_cell(intro.strip()), new_markdown_cell(order.strip()),
-                             new_markdown_cell(how.strip())])
-    nb.metadata["title"] = BOOK_TITLE
-    return nb
 
 
-def _render(exp, nb, name, course):
-    body, _ = exp.from_notebook_node(nb, resources={"metadata": {"name": name}, "course": course})
-    return relink(body, ".html")
+def _plotly_js():
+    """plotly.js from the plotly package, when it is installed (its figures need it)."""
+    try:
+        import plotly
+    except ImportError:
+        return None
+    js = Path(plotly.__file__).parent / "package_data" / "plotly.min.js"
+    return js if js.is_file() else None
 
 
-def _fill_toc(page_html, found):
-    items = "".join(f'<li><a href="#{html.escape(sid, quote=True)}">{html.escape(text)}</a></li>'
-                    for sid, text in found)
-    return page_html.replace(TOC_MARK, items, 1)
+def book_config(repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL, plotly=False):
+    """Jupyter Book's _config.yml, as a dict."""
+    js_files = ["vendor/plotly.min.js"] if plotly else []
+    return {
+        "title": BOOK_TITLE,
+        "author": "the course authors",
+        "copyright": "2026",
+        "only_build_toc_files": True,
+        "exclude_patterns": ["_build", "**.ipynb_checkpoints", "course_static"],
+        "execute": {"execute_notebooks": "off"},
+        "parse": {
+            "myst_enable_extensions": ["dollarmath", "amsmath", "colon_fence"],
+            "myst_dmath_double_inline": True,
+        },
+        "html": {
+            "use_repository_button": True,
+            "use_issues_button": False,
+            "use_edit_page_button": False,
+            "use_download_button": True,
+            "home_page_in_navbar": False,  # the book's title above the contents leads home
+            "use_multitoc_numbering": False,
+        },
+        "launch_buttons": {
+            "notebook_interface": "jupyterlab",
+            "binderhub_url": BINDERHUB_URL,
+            "jupyterhub_url": jupyterhub_url,
+        },
+        "repository": {"url": repository_url, "path_to_book": "notebooks", "branch": BRANCH},
+        "latex": {"use_jupyterbook_latex": False},
+        "sphinx": {
+            "recursive_update": True,  # add to Jupyter Book's theme options, not replace them
+            "config": {
+                "html_context": {"default_mode": "auto"},
+                "mathjax_path": MATHJAX,
+                "mathjax3_config": {
+                    "tex": {"tags": "ams"},
+                    "chtml": {"displayOverflow": "overflow"},
+                    "options": {"menuOptions": {"settings": {"assistiveMml": True}}},
+                },
+                "html_static_path": ["course_static"],
+                "html_css_files": ["course.css"],
+                "html_js_files": js_files,
+                "html_sourcelink_suffix": "",
+                "html_last_updated_fmt": None,
+                "myst_heading_anchors": 3,
+                "nb_render_markdown_format": "myst",
+                "suppress_warnings": ["myst.header", "mystnb.unknown_mime_type",
+                                      "myst.xref_missing"],  # links to raw <a id> anchors: tested
+                "html_theme_options": {
+                    "show_toc_level": 2,
+                    "navbar_persistent": [],  # search sits above the contents, not in a header too
+                    "use_download_button": True,
+                    "pygments_light_style": "a11y-high-contrast-light",
+                    "pygments_dark_style": "a11y-high-contrast-dark",
+                },
+            },
+        },
+    }
 
 
-def build(out=BUILD / "book", notebooks=None):
-    """Write the book into OUT; returns the paths of its pages, index.html first."""
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    vendor.install(out / VENDOR_DIR, ["mathjax", "requirejs"])
-    copy_assets(out)
-    paths = [Path(p) for p in (notebooks or course_notebooks())]
-    # every page lists every notebook, so the whole book is rebuilt when any input changes
-    stamps = Stamps(out)
-    key = stamps.key(tooling_key(), *(f"{p.name}" for p in paths), *(p.read_bytes() for p in paths))
-    names = ["index.html"] + [f"{p.stem}.html" for p in paths]
-    if all(stamps.fresh(n, key) for n in names):
-        return [out / n for n in names]
-    exp = exporter()
+def book_toc(paths):
+    """Jupyter Book's _toc.yml: the landing page, the numbered notebooks, the appendices."""
+    main = [{"file": p.stem} for p in paths if p.name[0].isdigit()]
+    appendix = [{"file": p.stem} for p in paths if not p.name[0].isdigit()]
+    parts = [{"caption": "The course", "chapters": main}]
+    if appendix:
+        parts.append({"caption": "Appendix", "chapters": appendix})
+    return {"format": "jb-book", "root": "index", "parts": parts}
+
+
+def prepare(src=SOURCE, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
+    """Write Jupyter Book's source folder; returns the notebooks' paths in order."""
+    import nbformat
+    src = Path(src)
+    paths = course_notebooks()
     nbs = [read(p) for p in paths]
-    pages = [{"stem": p.stem, "href": f"{p.stem}.html", "title": label(nb, p), "sections": []}
-             for p, nb in zip(paths, nbs)]
-    nav = [{"href": pg["href"], "title": pg["title"]} for pg in pages]
-    rendered = []
-    for i, (nb, page) in enumerate(zip(nbs, pages)):
-        course = {"book_title": BOOK_TITLE, "pages": nav, "current": page["href"],
-                  "prev": nav[i - 1] if i > 0 else None,
-                  "next": nav[i + 1] if i + 1 < len(nav) else None}
-        body = _render(exp, nb, page["stem"], course)
-        page["sections"] = sections(body)
-        rendered.append((out / page["href"], _fill_toc(body, page["sections"])))
-    course = {"book_title": BOOK_TITLE, "pages": nav, "current": "index.html", "prev": None,
-              "next": nav[0] if nav else None}
-    index = _render(exp, landing_notebook(pages), "index", course)
-    rendered.insert(0, (out / "index.html", index))
-    for target, body in rendered:
-        write_atomic(target, body)
-        stamps.record(target.name, key)
-    for old in set(out.glob("*.html")) - {t for t, _ in rendered}:  # a notebook renamed or removed
-        old.unlink()
-    stamps.save()
-    return [target for target, _ in rendered]
+    keep = {"index.md", "_config.yml", "_toc.yml"} | {p.name for p in paths}
+    for old in src.glob("*"):
+        if old.is_file() and old.name not in keep:
+            old.unlink()  # a notebook renamed or removed
+    anchors, slugs = heading_anchors(nbs), heading_slugs(paths, nbs)
+    for p, nb in zip(paths, nbs):
+        _write_if_changed(src / p.name, nbformat.writes(learner_copy(nb, anchors, slugs)) + "\n")
+    _write_if_changed(src / "index.md", landing_page(paths, nbs))
+    plotly = _plotly_js()
+    # Not "_static": Jupyter Book would load every .js file in that folder into every page.
+    static = src / "course_static"
+    if (src / "_static").exists():
+        shutil.rmtree(src / "_static")
+    static.mkdir(parents=True, exist_ok=True)
+    _write_if_changed(static / "course.css", (STATIC / "course.css").read_bytes())
+    vendor.install(static / "vendor", ["mathjax3"])
+    if plotly:
+        _write_if_changed(static / "vendor" / "plotly.min.js", plotly.read_bytes())
+    if (NOTEBOOKS / "images").is_dir():
+        shutil.copytree(NOTEBOOKS / "images", src / "images", dirs_exist_ok=True)
+    config = book_config(repository_url, jupyterhub_url, plotly=bool(plotly))
+    _write_if_changed(src / "_config.yml", yaml.safe_dump(config, sort_keys=False))
+    _write_if_changed(src / "_toc.yml", yaml.safe_dump(book_toc(paths), sort_keys=False))
+    return paths
+
+
+# ---------------------------------------------------------------------------------------
+# Sphinx, then a pass over the HTML
+
+
+def sphinx(src, out, builder):
+    """Run Jupyter Book's Sphinx build; raises SystemExit on failure."""
+    from jupyter_book.sphinx import build_sphinx
+    src = Path(src)
+    overrides = {"external_toc_path": (src / "_toc.yml").as_posix(), "latex_individualpages": False}
+    result = build_sphinx(str(src), str(out), noconfig=True, path_config=str(src / "_config.yml"),
+                          confoverrides=overrides, doctreedir=str(DOCTREES / builder),
+                          builder=builder, quiet=True, keep_going=True)
+    if result:
+        raise SystemExit(f"the {builder} build of the book failed ({result})")
+
+
+def wrap_solutions(soup):
+    """Move everything between a pair of solution markers into one collapsed <details>."""
+    changed = False
+    for begin in soup.select("div.course-solution-begin"):
+        # the markers sit inside their cell's wrapper; climb to the children of the section
+        start = begin
+        while start.parent is not None and start.parent.name not in ("section", "article", "main"):
+            start = start.parent
+        run, node = [], start.next_sibling
+        end = None
+        while node is not None:
+            if getattr(node, "select_one", None) and (
+                    "course-solution-end" in (node.get("class") or []) or node.select_one("div.course-solution-end")):
+                end = node
+                break
+            run.append(node)
+            node = node.next_sibling
+        details = soup.new_tag("details", attrs={"class": "course-solution"})
+        summary = soup.new_tag("summary")
+        summary.string = "Show solution"
+        details.append(summary)
+        start.insert_before(details)
+        for n in run:
+            details.append(n.extract())
+        start.decompose()
+        if end is not None:
+            end.decompose()
+        changed = True
+    for stray in soup.select("div.course-solution-end"):
+        stray.decompose()
+        changed = True
+    return changed
+
+
+# Sphinx wraps a display formula that has a line break ("\\", also inside a matrix) in
+# \begin{split}...\end{split}, where MathJax refuses \tag: the tag moves after the split.
+_SPLIT_TAG = re.compile(r"\\begin\{split\}((?:(?!\\end\{split\}).)*?)\s*\\tag\{([^{}]*)\}"
+                        r"((?:(?!\\end\{split\}).)*?)\\end\{split\}", re.S)
+
+
+def postprocess(out):
+    """The HTML pass: solution blocks; the download button gives the notebook itself."""
+    out = Path(out)
+    for page in out.glob("*.html"):
+        text = page.read_text(encoding="utf-8")
+        fixed = _SPLIT_TAG.sub(r"\\begin{split}\1\3\\end{split}\\tag{\2}", text)
+        soup = BeautifulSoup(fixed, "html.parser")
+        changed = wrap_solutions(soup) or fixed != text
+        # The search button's visible text ("Search Ctrl+K") is its accessible name; the
+        # theme's aria-label "Search" would contradict it (axe: label-content-name-mismatch).
+        for button in soup.select("button.search-button__button[aria-label]"):
+            del button["aria-label"]
+            changed = True
+        # myst-nb's collapsed input: its summary's text ("Show code cell source") is its name.
+        for summary in soup.select("summary[aria-label]"):
+            del summary["aria-label"]
+            changed = True
+        # The colour-mode button is named "Color mode"; its icons' titles are not its text.
+        for icon in soup.select(".theme-switch-button i[title]"):
+            del icon["title"]
+            icon["aria-hidden"] = "true"
+            changed = True
+        if changed:
+            write_atomic(page, str(soup))
+    sources = out / "_sources"
+    for p in course_notebooks():
+        if (sources / p.name).exists():
+            _write_if_changed(sources / p.name, p.read_bytes())
+
+
+def build(out=OUT, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
+    """Build the web site into OUT; returns its pages, index.html first, then one per notebook."""
+    paths = prepare(SOURCE, repository_url, jupyterhub_url)
+    sphinx(SOURCE, out, "html")
+    postprocess(out)
+    return [Path(out) / "index.html"] + [Path(out) / f"{p.stem}.html" for p in paths]
+
+
+def report_missing_alt():
+    lines = []
+    for p in course_notebooks():
+        cells = missing_alt(read(p))
+        if cells:
+            lines.append(f"{p.name}: figure without alt text in cell(s) {', '.join(map(str, cells))}")
+    return lines
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=BUILD / "book")
+    parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--pdf", action="store_true", help="also print build/course.pdf")
+    parser.add_argument("--repository-url", default=REPOSITORY_URL)
+    parser.add_argument("--jupyterhub-url", default=JUPYTERHUB_URL)
     args = parser.parse_args(argv)
-    for target in build(args.out):
-        print(target.relative_to(Path.cwd()) if target.is_relative_to(Path.cwd()) else target)
+    pages = build(args.out, args.repository_url, args.jupyterhub_url)
+    for line in report_missing_alt():
+        print("warning:", line, file=sys.stderr)
+    print(f"open {pages[0]}")
+    if args.pdf:
+        from tools import book_pdf
+        print(book_pdf.build())
 
 
 if __name__ == "__main__":

@@ -29,6 +29,8 @@ PACKAGES = {
     "requirejs": ("2.3.7", "sha512-DouTG8T1WanGok6Qjg2SXuCMzszOo0eHeH9hDZ5Y4x8Je+9JB38HdTLT4/VA8OaUhBa0JPVHJ0pyBkM1z+pDsw=="),
     # The book (Jupyter Book / Sphinx) needs MathJax 3; an npm alias lets it sit beside 2.7.7.
     "mathjax3": ("npm:mathjax@3.2.2", "sha512-Bt+SSVU8eBG27zChVewOicYs7Xsdt40qm4+UpHyX7k0/O9NliPc+x77k1/FEsPsjKPZGJvtRZM1vO+geW0OhGw=="),
+    # Accessibility checks of the book in the tests (injected into each page, offline).
+    "axe-core": ("4.14.1", "sha512-FHfa+lmNjQZfJz1q8wKqIDwC6DExcHt/pkjNQb09a3NPjCKg2rhu5qb2S4r76ASyFNNtuFooJpZe37OgudVGtQ=="),
 }
 
 # The files each page needs, as glob patterns inside the package. MathJax is trimmed to
@@ -47,6 +49,7 @@ FILES = {
     "mathjax3": ["LICENSE", "es5/tex-chtml-full.js", "es5/output/chtml/fonts/woff-v2/*",
                  "es5/a11y/*", "es5/ui/*",
                  "es5/tex-svg-full.js"],  # the decks
+    "axe-core": ["LICENSE", "axe.min.js"],
 }
 
 # What a page's <script> and <link> point at, relative to the directory the assets go in.

@@ -31,7 +31,7 @@ def test_correct_function_passes():
     (lambda a: np.full((3, 3), np.nan), "NaN or inf"),
     (lambda a: -so3lib.hat(a), "off by a sign"),
     (lambda a: "hat", "not a number"),
-    (lambda a: np.eye(3), "expected"),
+    (lambda a: np.eye(3), "is not right"),
 ])
 def test_wrong_functions_get_a_message_not_an_exception(student, says):
     fb = check_hat(student)
@@ -107,3 +107,15 @@ def test_never_raises_turns_an_unforeseen_error_into_a_message():
     fb = checker([1.0])
     assert not fb and repr(fb).startswith("Not yet: the answer. The answer could not be checked (IndexError")
     assert checker.__name__ == "checker"
+
+
+def test_messages_never_show_the_expected_value():
+    """Neither the expected value nor the difference that would give it away."""
+    fb = check_value(-14.0, 196.0, "c")
+    assert not fb and "196" not in repr(fb) and "210" not in repr(fb)
+    fb = check_value(197.0, 196.0, "c", hint="Use the Lemma twice.")
+    assert "196" not in repr(fb) and "Hint: Use the Lemma twice." in repr(fb)
+    assert "off by a sign" in repr(check_value(-196.0, 196.0, "c"))
+    secret = np.array([[0.0, -3.125, 2.375], [3.125, 0.0, -1.5], [-2.375, 1.5, 0.0]])
+    fb = check_function(lambda a: np.eye(3), lambda a: secret, INPUTS, "hat")
+    assert not fb and "3.125" not in repr(fb) and "2.375" not in repr(fb)

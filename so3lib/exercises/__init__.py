@@ -1,9 +1,11 @@
 r"""Checkers for the notebooks' exercises.
 
-A checker takes the learner's answer -- a value, or a function to call -- compares it
-with the library's answer, and returns a :class:`Feedback`: it prints as a short
-message ("Correct" or what is wrong and a hint) and is truthy only when the answer is
-right. A checker never raises: an answer that is missing (``None`` or ``...``), a
+A checker takes the learner's answer -- a value, or a function to call -- tests it, and
+returns a :class:`Feedback`: it prints as a short message ("Correct" or what is wrong and
+a hint) and is truthy only when the answer is right. A message names the learner's
+answer and the mistake it recognises (a sign, a transpose, a shape), never the expected
+value: the same exercises are graded as coursework (tools/assignments.py), where hidden
+tests decide the grade and no function here may answer an exercise. A checker never raises: an answer that is missing (``None`` or ``...``), a
 function that raises, returns ``None``, the wrong shape, NaN or a wrong number all get
 a message, so that a notebook with unanswered exercises still runs top to bottom.
 
@@ -76,8 +78,9 @@ def _compare(got, expected, name, atol, rtol, hint, context=""):
                            "division by zero (at a zero angle, or a half-turn?).", hint)
     if np.allclose(got_arr, exp_arr, atol=atol, rtol=rtol):
         return True
-    diff = float(np.abs(got_arr - exp_arr).max())
-    why = f"The answer{where} is {_fmt(got_arr)}; expected {_fmt(exp_arr)} (largest difference {diff:.2g})."
+    # The expected value is never shown, nor the difference (with the learner's own answer
+    # it would give the expected value away): only what the answer is and the mistake.
+    why = f"The answer{where} is {_fmt(got_arr)}, which is not right."
     if np.any(exp_arr != 0) and np.allclose(got_arr, -exp_arr, atol=atol, rtol=rtol):
         why += " It is off by a sign."
     elif exp_arr.ndim >= 2 and exp_arr.shape[-1] == exp_arr.shape[-2] and \
@@ -94,6 +97,7 @@ def check_value(answer, expected, name, atol=1e-8, rtol=1e-8, hint=None):
     answer : object
         The learner's answer; ``None`` or ``...`` means not answered yet.
     expected : array_like
+        What the answer must equal; it is never shown in the message.
     name : str
         What the answer is, for the message ("the rotation reached in 1 s").
     atol, rtol : float
@@ -147,7 +151,10 @@ def check_function(func, reference, inputs, name, atol=1e-10, rtol=1e-10, hint=N
         The learner's function. ``None``, ``...``, a function that raises
         ``NotImplementedError`` or returns ``None`` count as not written yet.
     reference : callable
-        The function with the same signature that gives the right answer.
+        The function with the same signature that gives the right answer, for an input
+        where the course's library gives it (``so3lib.hat``, ``so3lib.log``). Keep a
+        reference that answers an exercise out of the public names of
+        ``so3lib.exercises``; its results are never shown in a message.
     inputs : list of tuple
         Argument tuples to try, simplest first, so the message names the simplest input
         on which the function goes wrong. An item may also be ``(label, args)``: the

@@ -17,8 +17,19 @@ with ``tol = ROTATION_TOL = 1e-6`` unless the caller passes another value.  That
 accepts any rotation carried through a few thousand floating-point operations
 (rounding noise is about 1e-15 per step) and a rotation stored in float32, and refuses
 hand-typed four-digit entries (``0.7071`` is off by 7e-6), scaled matrices and
-reflections.  The logarithm of an accepted matrix at distance ``delta`` from SO(3) is
-within about ``pi * delta`` of the logarithm of the nearest rotation (spec S23).
+reflections.
+
+How far an accepted matrix moves the logarithm: if ``R0`` is any rotation and
+``delta = ||R - R0||_F`` (the Frobenius norm: the root of the sum of the squared
+entries of ``R - R0``), then ``log(R)`` is within ``pi * delta`` (Euclidean norm) of a
+logarithm of ``R0``, to first order in ``delta`` (spec S23). "A logarithm" because near
+the cut at ``theta = pi`` the perturbation may pick the other one,
+``Log R0 - 2 pi Log R0 / |Log R0|``. The constant is the largest gain of
+:func:`so3lib.log`'s formulas from ``R`` to ``log(R)``, measured over every angle and
+axis (``tests/test_accuracy.py``): 2.2, just above ``theta = pi/2`` with the axis along a
+diagonal; so ``pi`` has room. In other norms of ``R - R0`` the factor grows with the
+norm's ratio to Frobenius's: ``3 pi`` for the largest entry, ``sqrt(3) pi`` for the
+spectral norm.
 """
 
 import datetime

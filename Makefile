@@ -14,12 +14,14 @@ NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sanitize.cfg
 
 .PHONY: help lab test test-lib test-notebooks test-browser execute bench slides book student clean
+.PHONY: lint lint-lib
 
 help:
 	@echo "make lab      open the course in JupyterLab (sets up .venv the first time)"
 	@echo "make test     run every test: library, notebooks (strict nbval), editions, browser"
 	@echo "make execute  re-run every notebook in place, top to bottom in a fresh kernel"
 	@echo "make bench    time so3lib's exp and log against scipy"
+	@echo "make lint     ruff on so3lib, tests, tools and the notebooks (part of make test)"
 	@echo "make slides   a reveal.js deck per notebook in build/slides/ (presents offline)"
 	@echo "make book     the course as a web site, build/book/index.html (reads offline)"
 	@echo "make student  the notebooks without worked solutions, in build/student/"
@@ -36,11 +38,19 @@ $(STAMP): environment.txt pyproject.toml
 lab: $(STAMP)
 	$(BIN)/jupyter lab --ServerApp.ip=127.0.0.1 $(ROOT_FLAG) $(LAB_ARGS) notebooks/00_start_here.ipynb
 
-test: $(STAMP)
+test: $(STAMP) lint
 	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) tests $(NOTEBOOKS)
 
-test-lib: $(STAMP)
+test-lib: $(STAMP) lint-lib
 	$(BIN)/python -m pytest -n 2 tests
+
+# ruff with the rules in pyproject.toml (defects, not style): the notebooks too for
+# `make test`, the library's own code for `make test-lib`.
+lint: $(STAMP)
+	$(BIN)/ruff check so3lib tests tools notebooks
+
+lint-lib: $(STAMP)
+	$(BIN)/ruff check so3lib tests tools
 
 test-notebooks: $(STAMP)
 	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) $(NOTEBOOKS)

@@ -1,10 +1,12 @@
 """`make bench`: so3lib's exp and log side by side with scipy's Rotation.
 
-Prints, for N = 1 to 10^6 rotations, the time per rotation of each library and the
-ratio so3lib / scipy (below 1 means so3lib is faster); then the fixed cost of a call and
-the cost of one more rotation; then the targets of the performance issue, each with its
-measured value; and writes a plot to build/benchmark.png (the README shows a copy,
-notebooks/images/benchmark.png).
+First the goal of the library issue: for N = 1, 10, 100, 10^3 ... 10^6 rotations, the
+ratio so3lib / scipy of exp and of the validated log, each the median of interleaved
+pairs (so3lib then scipy, scipy then so3lib, in turn, each timed over the same number of
+calls), with every ratio above 1 flagged. Then, for N = 1 to 10^6, the time per rotation
+of each library (best of several rounds); the fixed cost of a call and the cost of one
+more rotation; the targets of the performance issue, each with its measured value; and a
+plot in build/benchmark.png (the README shows a copy, notebooks/images/benchmark.png).
 
 Timings are the best of several repeats, taken in rounds that go through every size and
 both libraries in turn, so that other work on the machine, or a slow spell of it, slows
@@ -13,14 +15,14 @@ during one call (NumPy reports its allocations to it), result included, divided 
 size of the result. Not a test: speed targets live here, never in the test suite (the
 memory bound, which does not depend on the machine, is tested in tests/test_memory.py).
 
-    python tests/benchmark.py [--quick] [--plot PATH]
+    python tests/benchmark.py [--quick] [--ratios-only] [--plot PATH]
 """
 
 import argparse
 import os
 import platform
+import statistics
 import sys
-import time
 import timeit
 import tracemalloc
 from pathlib import Path
@@ -32,6 +34,7 @@ from scipy.spatial.transform import Rotation
 import so3lib
 
 SIZES = (1, 3, 10, 30, 100, 300, 1_000, 3_000, 10_000, 30_000, 100_000, 300_000, 1_000_000)
+RATIO_SIZES = (1, 10, 100, 1_000, 10_000, 100_000, 1_000_000)
 TARGET_N = 100_000
 ROOT = Path(__file__).resolve().parent.parent
 PLOT = ROOT / "build" / "benchmark.png"
@@ -89,6 +92,55 @@ def best_times(sizes, rounds, budget):
     if progress:
         print("\r" + " " * 20 + "\r", end="", file=sys.stderr)
     return best
+
+
+def interleaved_ratios(sizes, pairs, budget):
+    """For each N: ``(t_exp, t_exp_scipy, ratio, t_log, t_log_scipy, ratio)``, times in
+    seconds per call and each ratio the median over ``pairs`` interleaved pairs.
+
+    A pair times so3lib and scipy back to back over the same number of calls (about
+    ``budget`` seconds of scipy), alternating which goes first, so that a change in the
+    machine's speed between pairs (other work, frequency) cancels in the ratio.
+    """
+    rng = np.random.default_rng(0)
+    rows = {}
+    for n in sizes:
+        phi, R = inputs(n, rng)
+        row = []
+        for mine, theirs in zip(*[iter(calls(phi, R))] * 2):
+            mine(), theirs()                                  # warm up
+            number = max(1, int(budget / max(timeit.Timer(theirs).timeit(1), 1e-7)))
+            times = {mine: [], theirs: []}
+            ratios = []
+            for k in range(pairs if n < 1_000_000 else max(3, pairs // 3)):
+                order = (mine, theirs) if k % 2 == 0 else (theirs, mine)
+                for func in order:
+                    times[func].append(timeit.Timer(func).timeit(number) / number)
+                ratios.append(times[mine][-1] / times[theirs][-1])
+            row += [statistics.median(times[mine]), statistics.median(times[theirs]),
+                    statistics.median(ratios)]
+        rows[n] = row
+    return rows
+
+
+def print_ratio_table(rows):
+    """The goal's table: ratio so3lib / scipy per N, flagged where above 1."""
+    print(f"{'N':>9} | {'exp us':>9} {'scipy us':>9} {'ratio':>6}   | "
+          f"{'log us':>9} {'scipy us':>9} {'ratio':>6}")
+    above = []
+    for n, (te, tes, re, tl, tls, rl) in rows.items():
+        flag = ["  ", "  "]
+        for k, (name, r) in enumerate((("exp", re), ("log", rl))):
+            if r > 1.0:
+                flag[k] = " !"
+                above.append(f"{name} at N = {n}")
+        print(f"{n:>9} | {te * 1e6:>9.1f} {tes * 1e6:>9.1f} {re:>6.2f}{flag[0]} | "
+              f"{tl * 1e6:>9.1f} {tls * 1e6:>9.1f} {rl:>6.2f}{flag[1]}")
+    if above:
+        print("ratio above 1 (!), goal not met: " + ", ".join(above))
+    else:
+        print("every ratio at most 1: goal met")
+    return above
 
 
 def peak_memory_ratio(func):
@@ -182,6 +234,8 @@ def report_targets(rows):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="3 rounds instead of 7 (rougher)")
+    parser.add_argument("--ratios-only", action="store_true",
+                        help="only the goal's table of interleaved ratios")
     parser.add_argument("--plot", type=Path, default=PLOT, help=f"default {PLOT}")
     args = parser.parse_args(argv)
     rounds, budget = (3, 0.05) if args.quick else (7, 0.1)
@@ -189,8 +243,15 @@ def main(argv=None):
     title = machine()
     print(f"so3lib {so3lib.__version__} against scipy.spatial.transform.Rotation")
     print(f"machine: {title}")
+    pairs = 11 if args.quick else 21
+    print(f"\nGoal: so3lib / scipy at most 1 at every N, exp and validated log; median of "
+          f"{pairs} interleaved pairs (times: medians per call)\n")
+    print_ratio_table(interleaved_ratios(RATIO_SIZES, pairs, budget / 10))
+    if args.ratios_only:
+        return 0
+
     rows = best_times(SIZES, rounds, budget)
-    print(f"best of {rounds} rounds (of 7 repeats each up to N = 1000); ns per rotation; "
+    print(f"\nbest of {rounds} rounds (of 7 repeats each up to N = 1000); ns per rotation; "
           "ratio = so3lib / scipy (below 1: so3lib faster)\n")
     print_table(rows)
 

@@ -1,9 +1,10 @@
 """The student edition (tools/student.py): no solutions left, and it still runs.
 
-It is built once per session into a temporary folder. Every cell tagged "solution" must
-be gone, with its output, and none of its text may remain anywhere in the edition; each
-exercise keeps its stub and its checker call; and the edition runs top to bottom under
-nbval in lax mode (no cell raises) with the checkers saying "not yet", not crashing.
+It is built once per session into a temporary folder. Every cell tagged "solution" or
+"hidden-test" must be gone, with its output, and none of its text may remain anywhere in
+the edition; so must every speaker note; each exercise keeps its stub and its checker
+call; and the edition runs top to bottom under nbval in lax mode (no cell raises) with
+the checkers saying "not yet", not crashing.
 """
 
 import os
@@ -47,9 +48,12 @@ def test_strip_replaces_each_run_of_solution_cells_by_one_stub():
         new_code_cell("answer = ..."),
         new_code_cell("check(answer)"),
         new_markdown_cell("**Solution.** it is FORTY-TWO", metadata={"tags": ["solution"]}),
+        new_markdown_cell("Say: the answer is SECRET-NOTE", metadata={"slideshow": {"slide_type": "notes"}}),
         new_code_cell("answer = 42  # SECRET-ANSWER\ncheck(answer)", metadata={"tags": ["solution"]},
                       outputs=[nbformat.v4.new_output("stream", text="Correct: 42\n")]),
+        new_code_cell("assert answer == 42  # SECRET-TEST", metadata={"tags": ["hidden-test"]}),
         new_markdown_cell("## Next section"),
+        new_markdown_cell("Ask: why 42? SECRET-QUESTION", metadata={"slideshow": {"slide_type": "notes"}}),
     ])
     out = student.strip(nb)
     sources = [c.source for c in out.cells]
@@ -58,7 +62,8 @@ def test_strip_replaces_each_run_of_solution_cells_by_one_stub():
     assert sources[4:] == ["## Next section"]
     text = nbformat.writes(out)
     assert "FORTY-TWO" not in text and "SECRET-ANSWER" not in text and "Correct: 42" not in text
-    assert len(nb.cells) == 6, "the original notebook is left as it was"
+    assert "SECRET-NOTE" not in text and "SECRET-TEST" not in text and "SECRET-QUESTION" not in text
+    assert len(nb.cells) == 9, "the original notebook is left as it was"
 
 
 def test_the_edition_has_every_notebook_and_what_it_needs(edition):
@@ -73,6 +78,7 @@ def test_the_edition_has_every_notebook_and_what_it_needs(edition):
 def test_no_solution_text_remains(edition, path):
     out, notebooks = edition
     full = read(path)
+    full.cells = [c for c in full.cells if not student.is_notes(c)]   # test_no_speaker_notes
     solutions = [c for c in full.cells if student.is_solution(c)]
     kept = read(notebooks[path.name])
     assert not any(student.is_solution(c) for c in kept.cells)
@@ -90,6 +96,19 @@ def test_no_solution_text_remains(edition, path):
     # everything that is not a solution is kept, in order, outputs included
     assert [c for c in full.cells if not student.is_solution(c)] == \
            [c for c in kept.cells if student.STUB_TAG not in c.metadata.get("tags", [])]
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_no_speaker_notes(edition, path):
+    """Speaker notes answer the lecturer's questions: none of them, nor their text, remains."""
+    out, notebooks = edition
+    full = read(path)
+    notes = {ln for c in full.cells if student.is_notes(c) for ln in _lines(c.source)}
+    elsewhere = {ln for c in full.cells if not student.is_notes(c) for t in _texts(c) for ln in _lines(t)}
+    kept = read(notebooks[path.name])
+    assert not any(student.is_notes(c) for c in kept.cells)
+    left = {ln for c in kept.cells for t in _texts(c) for ln in _lines(t)} & (notes - elsewhere)
+    assert not left, f"speaker notes left in the student edition: {sorted(left)[:5]}"
 
 
 def test_the_build_never_writes_into_notebooks(tmp_path):

@@ -1,8 +1,11 @@
-"""`make student`: the course for coursework, in build/student/, without the worked solutions.
+"""`make student`: the course for self-study, in build/student/, without the worked solutions.
 
-Every run of consecutive cells tagged "solution" (the worked answer to an exercise, and
-its output) is replaced by one markdown cell saying it is the learner's turn; everything
-else, the exercise stubs and the checker calls included, stays as it is. The folder is
+Every run of consecutive cells tagged "solution" or "hidden-test" (the worked answer to an
+exercise with its output, and the grading asserts) is replaced by one markdown cell saying
+it is the learner's turn, and the speaker notes (slide type "notes", which answer the
+lecturer's questions) are left out; everything else, the exercise stubs and the checker
+calls with their hints included, stays as it is. Graded coursework is the other edition
+of the same exercises (tools/assignments.py, `make assignments`). The folder is
 self-contained, so an instructor can hand it out or publish it as its own repository:
 notebooks/, the so3lib library the checkers live in, environment.txt, pyproject.toml,
 binder/ and a short README.
@@ -24,6 +27,7 @@ from nbformat.v4 import new_markdown_cell
 from tools.common import BUILD, NOTEBOOKS, ROOT, course_notebooks, inside, read
 
 SOLUTION_TAG = "solution"
+HIDDEN_TAG = "hidden-test"
 STUB_TAG = "your-turn"
 STUB_TEXT = (
     "**Your turn.** Write your answer in the cell above the checker, run it, then run the "
@@ -53,14 +57,22 @@ Work through the notebooks in order: 00, 01, ..., 05, then the appendix A1.
 
 
 def is_solution(cell):
-    return SOLUTION_TAG in cell.metadata.get("tags", [])
+    """A worked solution or a hidden test: what the learner must not see."""
+    return bool({SOLUTION_TAG, HIDDEN_TAG} & set(cell.metadata.get("tags", [])))
+
+
+def is_notes(cell):
+    return cell.metadata.get("slideshow", {}).get("slide_type") == "notes"
 
 
 def strip(nb):
-    """A copy of NB with each run of solution cells replaced by one "your turn" stub."""
+    """A copy of NB without speaker notes, each run of solution (and hidden-test) cells
+    replaced by one "your turn" stub."""
     nb = nbformat.from_dict(nb)
     cells, in_run = [], False
     for cell in nb.cells:
+        if is_notes(cell):
+            continue
         if is_solution(cell):
             if not in_run:
                 stub = new_markdown_cell(STUB_TEXT, metadata={

@@ -154,7 +154,7 @@ def exp(omega, tau=1.0):
     batch is computed in blocks of a few thousand rotations by one kernel
     (:func:`_exp_block`), for one rotation as for a million.
     """
-    omega = as_vectors(omega, 3, "omega", "exp")
+    omega = as_vectors(omega, 3, "omega", "exp", finite=False)    # NaN: found below
     tau = as_times(tau, "exp")
     if tau.ndim == 0:                           # phi = omega * scale, block by block
         batch, phi, scale = omega.shape[:-1], omega, float(tau)
@@ -167,6 +167,7 @@ def exp(omega, tau=1.0):
     out = R.reshape(-1, 9)                      # each matrix as a row of nine entries
     for i in range(0, len(rows), _BLOCK):
         if not _exp_block(rows[i:i + _BLOCK], scale, out[i:i + _BLOCK]):
+            as_vectors(omega, 3, "omega", "exp")    # raises for NaN and inf
             _check_rotation_vectors(omega, tau)     # raises if omega * tau overflows
             _exp_huge_block(rows[i:i + _BLOCK], scale, out[i:i + _BLOCK])
     return R
@@ -212,9 +213,17 @@ def _coefficients(theta2):
     return A, B
 
 
-# c I + hat(a) entry by entry, row by row: entry k is _SIGN[k] * (a_x, a_y, a_z, c)[_PICK[k]].
-_PICK = np.array([3, 2, 1, 2, 3, 0, 1, 0, 3])
-_SIGN = np.array([1.0, -1.0, 1.0, 1.0, 1.0, -1.0, -1.0, 1.0, 1.0])[:, None]
+# Rodrigues' formula as one matrix product. Each of the nine entries of R is the sum of
+# two of the 13 numbers F = (c, A x, A y, A z, (B x) x, (B x) y, (B x) z, (B y) x, ...,
+# (B z) z): R_ii = c + B p_i p_i and R_ij = B p_i p_j -+ A p_k, as hat(p) places A p_k;
+# R_ij and R_ji take the same product (B p_i) p_j, i <= j, so that R(-phi) = R(phi)^T
+# exactly. Row k of _COMBINE holds the coefficients (0, 1 or -1) of F_k in the entries.
+_COMBINE = np.zeros((13, 9))
+_COMBINE[0, ::4] = 1.0                          # c on the diagonal
+for _i in range(3):
+    for _j in range(3):
+        _COMBINE[4 + 3 * min(_i, _j) + max(_i, _j), 3 * _i + _j] = 1.0   # B p_i p_j
+_COMBINE[[3, 2, 3, 1, 2, 1], [1, 2, 3, 5, 6, 7]] = [-1.0, 1.0, 1.0, -1.0, -1.0, 1.0]  # hat
 
 
 def _rodrigues(p, A, B, c, out):
@@ -223,50 +232,55 @@ def _rodrigues(p, A, B, c, out):
     ``p`` has shape (3, m) (the components of m vectors), ``A``, ``B``, ``c`` shape (m,);
     with ``c = 1 - B |p|^2`` this is Rodrigues' formula
     :math:`I + A\hat p + B\hat p^2` (the Lemma :math:`\hat p^2 = pp^T - |p|^2 I`).
+    The product with ``_COMBINE`` adds two nonzero numbers per entry and exact zeros,
+    so it rounds once, like ``B p_i p_j - A p_k`` written out, in any order of summation.
     """
-    outer = np.multiply((B * p)[:, None, :], p).reshape(9, -1)    # B p_i p_j
-    terms = np.empty((4, p.shape[1]))
-    np.multiply(A, p, out=terms[:3])
-    terms[3] = c
-    outer += terms.take(_PICK, axis=0) * _SIGN
-    out[...] = outer.T
+    F = np.empty((13, p.shape[1]))
+    F[0] = c
+    np.multiply(A, p, out=F[1:4])
+    np.multiply((B * p)[:, None, :], p, out=F[4:].reshape(3, 3, -1))
+    np.matmul(F.T, _COMBINE, out=out)
+    out += 0.0                                  # + 0.0 turns -0.0 into 0.0 for printing
 
 
 def _exp_block(rows, scale, out):
     r"""``out = exp(hat(scale * phi))`` for a block of rotation vectors, ``rows`` (m, 3).
 
-    Returns False, computing nothing, when some ``|phi|`` exceeds 1e145 or is not finite
-    (:func:`_exp_huge_block` takes those): the test comes first, in plain floats, so
-    that nothing overflows or warns on the way.
+    Returns False, computing nothing more, when some ``|phi|`` exceeds 1e145 or is not
+    finite (:func:`_exp_huge_block` takes those). ``theta^2`` comes from ``einsum``,
+    which gives inf rather than a warning when it overflows, and sums each row in the
+    same order whatever the length of the block.
     """
-    theta2 = np.einsum("ij,ij->i", rows, rows)
-    if not float(theta2.max()) * (scale * scale) <= _SQ_HI:   # also False for NaN
+    phi = _scaled(rows, scale)
+    theta2 = np.einsum("ij,ij->i", phi, phi)
+    if not theta2.max() <= _SQ_HI:              # also False for NaN
         return False
-    if scale == 1.0:
-        p = rows.T.copy()                       # (3, m): x, y, z as contiguous rows
-    else:
-        p = np.multiply(rows.T, scale, order="C")
-        theta2 *= scale * scale
     A, B = _coefficients(theta2)
     c = B * theta2
     np.subtract(1.0, c, out=c)                  # cos(theta) = 1 - B theta^2
-    _rodrigues(p, A, B, c, out)
+    _rodrigues(phi.T.copy(), A, B, c, out)      # x, y, z as contiguous rows
     return True
+
+
+def _scaled(rows, scale):
+    """``scale * rows``; inf where that overflows (reported by :func:`exp`)."""
+    if scale == 1.0:
+        return rows
+    with np.errstate(over="ignore"):
+        return rows * scale
 
 
 def _exp_huge_block(rows, scale, out):
     """A block with some ``1e145 < |phi| < 1e308``: those rows in the unit-axis form
     ``I + sin(theta) hat(n) + (1 - cos(theta)) hat(n)^2``, the others as usual."""
-    theta2 = np.einsum("ij,ij->i", rows, rows)
-    with np.errstate(over="ignore"):            # |phi| < 1e308 was checked; theta2 may be inf
-        theta2 *= scale * scale
-        p = np.multiply(rows.T, scale, order="C")
+    phi = _scaled(rows, scale)
+    theta2 = np.einsum("ij,ij->i", phi, phi)
     huge = theta2 > _SQ_HI
-    p_huge = p[:, huge].T
+    p = phi.T.copy()
     p[:, huge], theta2[huge] = 0.0, 0.0         # placeholders, replaced below
     A, B = _coefficients(theta2)
     _rodrigues(p, A, B, 1.0 - B * theta2, out)
-    theta, n = _angle_and_axis(p_huge)
+    theta, n = _angle_and_axis(phi[huge])
     t = np.tan(0.5 * theta)
     sin = (t + t) / (1.0 + t * t)
     one_minus_cos = sin * t

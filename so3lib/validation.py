@@ -230,7 +230,7 @@ def _check_finite(arr, name, func):
         raise ValueError(f"{func} expects finite numbers; {name} has {kind}{where}")
 
 
-def as_vectors(x, dim, name, func):
+def as_vectors(x, dim, name, func, finite=True):
     """Return ``x`` as a finite float64 array of shape ``(..., dim)``.
 
     Parameters
@@ -240,13 +240,17 @@ def as_vectors(x, dim, name, func):
         Length of the last axis (3 for so(3), 2 for the plane).
     name, func : str
         Argument and function names used in error messages.
+    finite : bool
+        Refuse NaN and inf (default). ``False`` leaves that test to a caller that finds
+        them on its way anyway, and must then call again with ``True`` to report them.
     """
     arr = _as_real_array(x, name, func)
     if arr.ndim == 0 or arr.shape[-1] != dim:
         raise ValueError(f"{func} expects {name} of shape (..., {dim}), a {dim}-vector or a "
                          f"batch of them; got shape {arr.shape}")
     check_batch_axes(arr, 1, name, func)
-    _check_finite(arr, name, func)
+    if finite:
+        _check_finite(arr, name, func)
     return arr
 
 

@@ -87,3 +87,16 @@ def test_exp_overflow_is_reported_from_a_batch(rng):
     omega[so3._BLOCK + 4] = [1.5e308, 1.5e308, 1.5e308]
     with pytest.raises(ValueError, match="rotation angle .* overflows"):
         so3lib.exp(omega)
+
+
+@pytest.mark.parametrize("omega, tau", [([1e258, 1e258, -1e258], 3.2e-259),
+                                        ([1e-250, 2e-250, 0.0], 1e250),
+                                        ([3.0, -1.0, 2.0], 1e-300)])
+def test_exp_forms_omega_times_tau_first(omega, tau):
+    """|omega|^2 may overflow or underflow where phi = omega * tau is ordinary: exp takes
+    the product first, so exp(omega, tau) is exp(omega * tau), bit for bit."""
+    omega = np.array(omega)
+    R = so3lib.exp(omega, tau)
+    assert np.isfinite(R).all()
+    assert np.array_equal(R, so3lib.exp(omega * tau))
+    assert np.array_equal(so3lib.exp(np.stack([omega] * 3), tau)[1], R)

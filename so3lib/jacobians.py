@@ -346,12 +346,13 @@ def right_jacobian_inv(phi):
 
     Notes
     -----
-    Near ``2 pi`` the inverse grows like :math:`2/(2\pi - \theta)` (the reciprocal of the
-    small singular value ``sin(theta/2)/(theta/2)``), and it is ill-conditioned: a
-    relative change ``eps`` in ``theta`` changes it by ``eps * 2 pi / (2 pi - theta)``
-    relative. The error bound is therefore a few eps relative to ``max(1, largest
-    entry)``, times ``max(1, theta)`` and times ``max(1, 2 pi / (2 pi - theta))``; at
-    1e-3 below ``2 pi`` the entries are about 4000 and carry some 10 fewer bits. The
+    Near ``2 pi`` the inverse grows like :math:`2\pi/(2\pi - \theta)` (its largest singular
+    value is the reciprocal of the small one, :math:`(\theta/2)/\sin(\theta/2)`), and it
+    is ill-conditioned: a relative change ``eps`` in ``theta`` changes it by about
+    ``eps * 2 pi / (2 pi - theta)`` relative. The error bound is therefore a few eps
+    relative to ``max(1, largest entry)``, times ``max(1, theta)`` and times
+    ``max(1, 2 pi / (2 pi - theta))``; at 1e-3 below ``2 pi`` the largest singular value is
+    about 6300 and the entries carry some 12 fewer bits. The
     coefficient is :math:`\theta^2 D(\theta)` (see :func:`D`), computed without the
     cancellations of the written form.
     """

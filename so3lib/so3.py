@@ -419,7 +419,8 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
     """
     R = _validated_rotations(R, check, tol, "log")
     tau = as_times(tau, "log", nonzero=True)
-    broadcast_batch(R.shape[:-2], tau, "log", "R")
+    if tau.ndim:
+        broadcast_batch(R.shape[:-2], tau, "log", "R")
     rows = R.reshape(-1, 9)                     # each matrix as a row of nine entries
     scale = float(tau) if tau.ndim == 0 else 1.0    # divide by a scalar tau block by block
     L = np.empty(R.shape[:-2] + (3,))
@@ -460,9 +461,12 @@ def _log_block(r, scale, out):
     signed so that ``n . v >= 0``.
     """
     v, c = _skew_and_trace(r)
-    s = _half_norm(v)
-    np.maximum(s, 5e-324, out=s)                # v = 0: theta/(2s) * v is then 0 (or pi)
     with np.errstate(all="ignore"):            # _near_pi off its rows; check=False
+        s = np.sqrt(_dot(v, v))
+        s *= 0.5
+        # s = 0 (v = 0, or |v| < 1e-154 squared to 0): raised to the least subnormal,
+        # theta = atan2(s, c) = s near 0 and theta/(2s) = 1/2, the limit; pi near pi.
+        np.maximum(s, 5e-324, out=s)
         theta = np.arctan2(s, c)
         phi = theta / (s + s) * v               # theta/(2s) -> 1/2 as s -> 0
         near_pi = c < 0
@@ -493,7 +497,7 @@ def _near_pi(r, v, c, theta):
     sym *= 0.5
     sym.reshape(9, -1)[::4] -= c                # (R + R^T)/2 - c I
     j = np.argmax(sym.reshape(9, -1)[::4], axis=0)   # the first largest diagonal entry
-    col = np.take_along_axis(sym, j[None, None, :], axis=1)[:, 0, :]    # its column
+    col = np.where(j == 0, sym[:, 0], np.where(j == 1, sym[:, 1], sym[:, 2]))   # its column
     k = theta / np.sqrt(_dot(col, col))
     np.negative(k, out=k, where=_dot(col, v) < 0)
     return k * col

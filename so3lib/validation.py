@@ -65,11 +65,9 @@ MAX_BATCH_AXES = 32
 SKEW_RTOL = 1e-8
 
 # Batches are checked in blocks of _BLOCK matrices, so that the temporaries stay small (in
-# cache, and far below the size of the batch). Up to _FEW matrices, and arrays of up to
-# _SMALL numbers, are checked in plain floats, which is quicker than NumPy's overhead per
-# call; both paths compute the same numbers.
+# cache, and far below the size of the batch); one matrix is a block of one. Arrays of up
+# to _SMALL numbers are tested for finiteness in plain floats, quicker than a NumPy call.
 _BLOCK = 4096
-_FEW = 8
 _SMALL = 32
 _FLOAT64 = np.dtype(np.float64)
 
@@ -289,8 +287,8 @@ def _defects(r, dim):
     r"""The entries of :math:`R^T R - I` on and above the diagonal, and :math:`\det R`.
 
     ``r`` holds the entries of ``R`` row by row (``r[3 * i + j]`` is :math:`R_{ij}` for
-    ``dim = 3``): plain floats for one matrix, or arrays of one entry across a block of
-    matrices. The same lines serve both, so one matrix and a batch get the same verdict.
+    ``dim = 3``), each an array across a block of matrices; :func:`_block_defects` uses
+    these lines for 2x2 matrices (3x3 ones go on stacked arrays there).
     """
     if dim == 3:
         r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
@@ -311,19 +309,33 @@ def _defects(r, dim):
 
 
 def _block_defects(rows, dim):
-    """``orth`` and ``det`` of a block of matrices given as rows of entries, as arrays."""
-    gram, det = _defects(rows.T.copy(), dim)   # one contiguous array per entry
-    orth = np.abs(gram[0])
-    for g in gram[1:]:
-        np.maximum(orth, np.abs(g), out=orth)
+    """``orth = max|R^T R - I|`` and ``det R`` of a block of matrices given as rows of entries.
+
+    For 3x3 matrices on stacked arrays, ``C[i, j]`` holding ``R_ij`` across the block:
+    ``(R^T R)_ij = sum_k R_ki R_kj`` and ``det R = r_0 . (r_1 x r_2)`` (the rows), each
+    sum taken in the order k = 0, 1, 2 whatever the size of the block, so that one matrix
+    and a batch get the same verdict. Callers silence overflow (huge entries give inf).
+    """
+    if dim == 2:
+        gram, det = _defects(rows.T.copy(), dim)   # one contiguous array per entry
+        orth = np.abs(gram[0])
+        for g in gram[1:]:
+            np.maximum(orth, np.abs(g), out=orth)
+        return orth, det
+    C = rows.T.copy().reshape(3, 3, -1)
+    gram = (C[:, :, None, :] * C[:, None, :, :]).sum(axis=0).reshape(9, -1)
+    gram[::4] -= 1.0                            # R^T R - I
+    orth = np.abs(gram).max(axis=0)
+    r1, r2 = C[1], C[2]
+    cross = r1.take(_NEXT, axis=0) * r2.take(_AFTER, axis=0)
+    cross -= r1.take(_AFTER, axis=0) * r2.take(_NEXT, axis=0)   # r_1 x r_2
+    det = (C[0] * cross).sum(axis=0)
     return orth, det
 
 
-def _few_defects(rows, dim):
-    """``orth`` and ``det`` of a few matrices given as rows of entries, as lists of floats."""
-    found = [_defects(r, dim) for r in rows.tolist()]
-    return ([math.inf if math.isnan(sum(gram)) else max(map(abs, gram)) for gram, _ in found],
-            [det for _, det in found])
+# (a x b)_i = a_{i+1} b_{i+2} - a_{i+2} b_{i+1}, indices modulo 3.
+_NEXT = np.array([1, 2, 0])
+_AFTER = np.array([2, 0, 1])
 
 
 def rotation_defects(R):
@@ -347,12 +359,9 @@ def _rotation_defects(R):
         orth = np.abs(gram - np.eye(dim)).max(axis=(-2, -1))
         return orth, np.linalg.det(R)
     rows = R.reshape(-1, dim * dim)             # each matrix as a row of entries
-    if len(rows) <= _FEW:
-        orth, det = map(np.array, _few_defects(rows, dim))
-    else:
-        orth, det = np.empty(len(rows)), np.empty(len(rows))
-        for i in range(0, len(rows), _BLOCK):
-            orth[i:i + _BLOCK], det[i:i + _BLOCK] = _block_defects(rows[i:i + _BLOCK], dim)
+    orth, det = np.empty(len(rows)), np.empty(len(rows))
+    for i in range(0, len(rows), _BLOCK):
+        orth[i:i + _BLOCK], det[i:i + _BLOCK] = _block_defects(rows[i:i + _BLOCK], dim)
     batch = R.shape[:-2]
     return orth.reshape(batch)[()], det.reshape(batch)[()]
 
@@ -362,21 +371,13 @@ def _first_failure(R, tol):
     within ``tol``, or None. Block by block, stopping at the first failing block."""
     dim = R.shape[-1]
     rows = R.reshape(-1, dim * dim)
-    if len(rows) <= _FEW:
-        for k, r in enumerate(rows.tolist()):
-            gram, det = _defects(r, dim)
-            orth = max(map(abs, gram))
-            if math.isnan(sum(gram)):           # huge entries: inf - inf
-                orth = math.inf
-            if not (orth <= tol and abs(det - 1.0) <= tol):    # NaN counts as failing
-                return k, orth, det
-        return None
     for i in range(0, len(rows), _BLOCK):
         orth, det = _block_defects(rows[i:i + _BLOCK], dim)
         bad = ~((orth <= tol) & (np.abs(det - 1.0) <= tol))   # NaN counts as failing
         if bad.any():
             k = int(np.argmax(bad))
-            return i + k, float(orth[k]), float(det[k])
+            o = float(orth[k])
+            return i + k, (math.inf if math.isnan(o) else o), float(det[k])
     return None
 
 

@@ -1,0 +1,297 @@
+"""`make grade SUBMITTED=DIR`: grade the students' notebooks with nbgrader.
+
+DIR holds nbgrader's layout, ``DIR/STUDENT_ID/ASSIGNMENT/NOTEBOOK.ipynb``, for the
+assignments that `make assignments` wrote into build/coursework/. For every student and
+assignment on its own (so that one broken notebook never stops the others):
+
+1. a notebook that is not a readable notebook (not JSON, not nbformat) scores 0, and the
+   reason is recorded; it is not run;
+2. ``nbgrader autograde`` runs the rest in a fresh kernel. nbgrader first puts back the
+   test cells from the source (edited or deleted ones included), so the source's hidden
+   tests decide the grade, whatever the notebook redefined or printed. A cell that runs
+   longer than ``--timeout`` seconds is interrupted and scores 0; the next cells still run.
+   A whole notebook that takes longer than ``--notebook-timeout`` is stopped and scores 0;
+3. ``nbgrader generate_feedback`` writes one HTML page per notebook, with the checkers'
+   messages, into build/coursework/feedback/STUDENT/ASSIGNMENT/;
+4. ``nbgrader export`` writes build/grades.csv: one row per student and assignment with
+   ``score`` and ``max_score``, plus a ``problem`` column saying why a notebook could
+   not be graded. build/grades_by_exercise.csv has one row per exercise, with the reason a
+   test failed (the hidden test's assertion, the error raised, the time limit).
+
+Usage: python -m tools.grade SUBMITTED [--course DIR] [--timeout S] [--out CSV]
+"""
+
+import argparse
+import csv
+import html
+import os
+import shutil
+import sys
+import time
+from pathlib import Path
+
+import nbformat
+
+from tools.assignments import COURSE, DEFAULT_TIMEOUT, nbgrader
+from tools.common import BUILD
+
+NOT_RUN = "not graded"
+
+
+def _gradebook(course):
+    os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+    from nbgrader.api import Gradebook
+    return Gradebook(f"sqlite:///{Path(course).resolve() / 'gradebook.db'}")
+
+
+def unreadable(path):
+    """Why the notebook at PATH cannot be graded, or None when it can be read."""
+    try:
+        nb = nbformat.read(str(path), as_version=4)
+    except Exception as err:  # not JSON, not a notebook, unreadable bytes
+        first = str(err).strip().splitlines()[0] if str(err).strip() else ""
+        return f"not a valid notebook file ({type(err).__name__}: {first[:200]})"
+    if not isinstance(nb.get("cells"), list):
+        return "not a valid notebook file (it has no list of cells)"
+    return None
+
+
+def _first_line(text, limit=300):
+    lines = [ln for ln in str(text).strip().splitlines() if ln.strip()]
+    return lines[0][:limit] if lines else ""
+
+
+def cell_reason(cell, timeout):
+    """Why a test cell lost its points, read from its error output ("" when none)."""
+    errors = [out for out in cell.get("outputs", []) if out.get("output_type") == "error"]
+    # a cell stopped at the time limit shows the interrupt and nbgrader's timeout error
+    if any(out.get("ename") in ("CellTimeoutError", "KeyboardInterrupt") for out in errors):
+        return f"time limit: the cell ran longer than {timeout} s and was stopped"
+    for out in errors:
+        name, value = out.get("ename", ""), _first_line(out.get("evalue", ""))
+        if name == "AssertionError":
+            return "a hidden test failed" + (f": {value}" if value else "")
+        if name == "NameError":
+            return f"{name}: {value} (was the answer cell run, or deleted?)"
+        return f"{name}: {value}" if value else name
+    return ""
+
+
+def _stage(submitted, course, known, log):
+    """Copy DIR into the course's submitted/ and sort out what cannot be graded.
+
+    Returns (jobs, problems): jobs is a list of (student, assignment); problems maps
+    (student, assignment) to the reason it scores 0.
+    """
+    submitted, target = Path(submitted).resolve(), (Path(course) / "submitted").resolve()
+    jobs, problems = [], {}
+    same = submitted == target
+    for student_dir in sorted(p for p in submitted.iterdir() if p.is_dir() and not p.name.startswith(".")):
+        for assignment_dir in sorted(p for p in student_dir.iterdir() if p.is_dir() and not p.name.startswith(".")):
+            key = (student_dir.name, assignment_dir.name)
+            if assignment_dir.name not in known:
+                log(f"warning: {student_dir.name}/{assignment_dir.name}: no such assignment; skipped")
+                continue
+            dest = target / student_dir.name / assignment_dir.name
+            if not same:
+                if dest.exists():
+                    shutil.rmtree(dest)
+                shutil.copytree(assignment_dir, dest, ignore=shutil.ignore_patterns(".ipynb_checkpoints"))
+            reasons = []
+            notebooks = sorted(dest.glob("*.ipynb"))
+            for nb in notebooks:
+                why = unreadable(nb)
+                if why:
+                    reasons.append(f"{nb.name}: {why}")
+                    if not same:
+                        nb.unlink()          # keep the staged copy gradable; DIR is untouched
+            if not notebooks:
+                reasons.append("no notebook submitted")
+            if reasons:
+                problems[key] = "; ".join(reasons)
+            # a corrupt notebook left in place (DIR is the course's own submitted/) is not run
+            if any(dest.glob("*.ipynb")) and not (same and reasons):
+                jobs.append(key)
+    return jobs, problems
+
+
+def _tail(run):
+    text = (run.stdout or "") + (run.stderr or "")
+    errors = [ln for ln in text.splitlines() if "ERROR" in ln or "Error" in ln]
+    return _first_line("\n".join(errors[-3:]) or text[-500:], 500)
+
+
+def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=None,
+          out=BUILD / "grades.csv", log=print):
+    """Grade every student and assignment in SUBMITTED; returns the rows of the CSV."""
+    course = Path(course).resolve()
+    if not (course / "gradebook.db").exists() or not (course / "source").is_dir():
+        raise SystemExit(f"no coursework in {course}: run `make assignments` first")
+    if not Path(submitted).is_dir():
+        raise SystemExit(f"no folder {submitted}: it should hold STUDENT_ID/ASSIGNMENT/NOTEBOOK.ipynb")
+    notebook_timeout = notebook_timeout or max(900, 20 * timeout)
+    with _gradebook(course) as gb:
+        known = {a.name for a in gb.assignments}
+    jobs, problems = _stage(submitted, course, known, log)
+    students = sorted({s for s, _ in jobs} | {s for s, _ in problems})
+
+    with _gradebook(course) as gb:
+        for student in students:
+            gb.update_or_create_student(student)
+        for student, assignment in set(jobs) | set(problems):
+            try:                        # an earlier run's grade must not outlive a new submission
+                gb.remove_submission(assignment, student)
+            except Exception:
+                pass
+    failed_jobs = set()
+    for student, assignment in jobs:
+        start = time.monotonic()
+        try:
+            run = nbgrader(course, "autograde", assignment, f"--student={student}", "--force",
+                           f"--Execute.timeout={int(timeout)}", "--log-level=ERROR",
+                           timeout=notebook_timeout, check=False)
+            failed = f"autograde failed: {_tail(run)}" if run.returncode != 0 else ""
+        except Exception as err:        # subprocess.TimeoutExpired, above all
+            failed = f"grading stopped after {notebook_timeout} s ({type(err).__name__})"
+        log(f"autograde {student}/{assignment}: {'FAILED, ' + failed if failed else 'done'} "
+            f"({time.monotonic() - start:.0f} s)")
+        if failed:
+            failed_jobs.add((student, assignment))
+            problems[(student, assignment)] = "; ".join(filter(None, [problems.get((student, assignment)), failed]))
+            with _gradebook(course) as gb:
+                try:
+                    gb.remove_submission(assignment, student)
+                except Exception:
+                    pass
+    jobs = [job for job in jobs if job not in failed_jobs]
+
+    for assignment in sorted({a for _, a in jobs}):
+        run = nbgrader(course, "generate_feedback", assignment, "--force", "--log-level=ERROR", check=False)
+        if run.returncode != 0:             # one student's page must not cost the others theirs
+            for student, a in jobs:
+                if a == assignment:
+                    nbgrader(course, "generate_feedback", assignment, f"--student={student}",
+                             "--force", "--log-level=ERROR", check=False)
+    for (student, assignment), why in problems.items():
+        _problem_page(course, student, assignment, why)
+
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    nbgrader(course, "export", f"--to={out.resolve()}", "--log-level=ERROR")
+    with _gradebook(course) as gb:
+        for row in _read_csv(out):
+            key = (row["student_id"], row["assignment"])
+            if key not in problems and not _submitted(gb, *key):
+                problems[key] = "no submission"
+    rows = _add_problems(out, problems)
+    _by_exercise(course, out.with_name(out.stem + "_by_exercise.csv"), jobs, problems, timeout)
+    return rows
+
+
+def _problem_page(course, student, assignment, why):
+    folder = Path(course) / "feedback" / student / assignment
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "problem.html").write_text(
+        "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Not graded</title></head>"
+        f"<body><h1>{html.escape(assignment)}: not graded</h1><p>{html.escape(why)}</p>"
+        "<p>This part scores 0. Ask your instructor if you think this is wrong.</p></body></html>",
+        encoding="utf-8")
+
+
+def _read_csv(path):
+    with open(path, newline="", encoding="utf-8") as fh:
+        return list(csv.DictReader(fh))
+
+
+def _submitted(gb, student, assignment):
+    from nbgrader.api import MissingEntry
+    try:
+        gb.find_submission(assignment, student)
+        return True
+    except MissingEntry:
+        return False
+
+
+def _add_problems(path, problems):
+    rows = _read_csv(path)
+    fields = list(rows[0].keys()) if rows else ["assignment", "student_id", "score", "max_score"]
+    fields.append("problem")
+    for row in rows:
+        row["problem"] = problems.get((row["student_id"], row["assignment"]), "")
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+    return rows
+
+
+def _by_exercise(course, path, jobs, problems, timeout):
+    """One row per student, assignment and exercise, with the reason for lost points."""
+    rows = []
+    with _gradebook(course) as gb:
+        for assignment in gb.assignments:
+            for notebook in assignment.notebooks:
+                for cell in notebook.grade_cells:
+                    for student in gb.students:
+                        key = (student.id, assignment.name)
+                        score, reason = 0.0, problems.get(key, "")
+                        if key in jobs:
+                            try:
+                                g = gb.find_grade(cell.name, notebook.name, assignment.name, student.id)
+                                score = float(g.score)
+                            except Exception:
+                                reason = reason or NOT_RUN
+                        elif not reason:
+                            reason = "no submission"
+                        if key in jobs and not reason and score < float(cell.max_score):
+                            reason = _reason_from_notebook(course, key, notebook.name, cell.name, timeout)
+                        rows.append({"student_id": student.id, "assignment": assignment.name,
+                                     "notebook": notebook.name, "exercise": cell.name,
+                                     "score": score, "max_score": float(cell.max_score),
+                                     "reason": reason})
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=["student_id", "assignment", "notebook", "exercise",
+                                                "score", "max_score", "reason"])
+        writer.writeheader()
+        writer.writerows(rows)
+    return rows
+
+
+def _reason_from_notebook(course, key, notebook, grade_id, timeout):
+    student, assignment = key
+    path = Path(course) / "autograded" / student / assignment / f"{notebook}.ipynb"
+    try:
+        nb = nbformat.read(str(path), as_version=4)
+    except Exception:
+        return NOT_RUN
+    cells = {cell.metadata.get("nbgrader", {}).get("grade_id"): cell for cell in nb.cells}
+    if grade_id not in cells:
+        return "the test cell was not found in the graded notebook"
+    test = cell_reason(cells[grade_id], timeout) or "the test did not pass"
+    answer = cells.get(grade_id.rsplit("-", 1)[0] + "-answer")
+    if answer is not None and cell_reason(answer, timeout):
+        return f"the answer cell: {cell_reason(answer, timeout)}; then the test: {test}"
+    return test
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("submitted", type=Path, help="DIR/STUDENT_ID/ASSIGNMENT/NOTEBOOK.ipynb")
+    parser.add_argument("--course", type=Path, default=COURSE)
+    parser.add_argument("--timeout", type=int, default=DEFAULT_TIMEOUT,
+                        help=f"seconds one cell may run (default {DEFAULT_TIMEOUT})")
+    parser.add_argument("--notebook-timeout", type=int, default=None,
+                        help="seconds one notebook may take in all (default max(900, 20 x timeout))")
+    parser.add_argument("--out", type=Path, default=BUILD / "grades.csv")
+    args = parser.parse_args(argv)
+    rows = grade(args.submitted, args.course, args.timeout, args.notebook_timeout, args.out)
+    for row in rows:
+        note = f"  ({row['problem']})" if row["problem"] else ""
+        print(f"{row['student_id']:>16}  {row['assignment']:<32} {float(row['score']):6.1f} / "
+              f"{float(row['max_score']):.1f}{note}")
+    print(f"grades: {args.out}; per exercise: {args.out.with_name(args.out.stem + '_by_exercise.csv')}; "
+          f"feedback: {args.course / 'feedback'}/STUDENT/ASSIGNMENT/")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -14,6 +14,7 @@ NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sanitize.cfg
 
 .PHONY: help lab test test-lib test-notebooks test-browser execute bench slides book student clean
+.PHONY: assignments grade
 .PHONY: lint lint-lib
 
 help:
@@ -25,6 +26,8 @@ help:
 	@echo "make slides   a reveal.js deck per notebook in build/slides/ (presents offline)"
 	@echo "make book     the course as a web site, build/book/index.html (reads offline)"
 	@echo "make student  the notebooks without worked solutions, in build/student/"
+	@echo "make assignments  nbgrader coursework from the notebooks, in build/coursework/"
+	@echo "make grade SUBMITTED=DIR  autograde DIR/STUDENT/ASSIGNMENT/*.ipynb: build/grades.csv, feedback"
 	@echo "make clean    remove .venv, build/ and caches"
 
 $(STAMP): environment.txt pyproject.toml
@@ -81,6 +84,18 @@ book: $(STAMP)
 
 student: $(STAMP)
 	$(BIN)/python -m tools.student
+
+# nbgrader coursework (tools/assignments.py): source/ generated from the notebooks' tags,
+# release/ by nbgrader; the gradebook is build/coursework/gradebook.db.
+assignments: $(STAMP)
+	$(BIN)/python -m tools.assignments
+
+# Autograde SUBMITTED/STUDENT_ID/ASSIGNMENT/NOTEBOOK.ipynb (tools/grade.py); a cell may run
+# TIMEOUT seconds. Writes build/grades.csv and build/coursework/feedback/.
+SUBMITTED ?= build/coursework/submitted
+TIMEOUT ?= 60
+grade: $(STAMP)
+	$(BIN)/python -m tools.grade $(SUBMITTED) --timeout $(TIMEOUT)
 
 clean:
 	rm -rf $(VENV) build .pytest_cache .hypothesis

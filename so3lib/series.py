@@ -8,8 +8,11 @@ the regrouping produces,
           = I + A(\theta)\,\hat\varphi + B(\theta)\,\hat\varphi^2,
           \qquad A(t) = \frac{\sin t}{t},\quad B(t) = \frac{1 - \cos t}{t^2}.
 
-:func:`so3lib.exp` is the function to use for computing; it evaluates the same formula
-with the same care.
+:func:`so3lib.exp` is the function to use for computing. It evaluates the same formula
+in another way: the whole matrix from one tangent, ``t = tan(theta/2)``, with no
+Taylor branch, at every angle up to ``theta = 1e145`` (see its Notes); :func:`A` and
+:func:`B` here keep the textbook forms, with their Taylor series below ``1e-4``, for
+comparison in the notebooks.
 """
 
 import numpy as np

@@ -136,23 +136,38 @@ def exp(omega, tau=1.0):
     Accurate to a few units of ``eps * max(1, theta)`` at every angle (spec S23;
     the factor ``theta`` is the conditioning of the problem, spec S11).
 
-    One tangent gives both coefficients, at every angle up to ``theta = 1e145``: with
-    ``h = theta/2`` and ``t = tan(h)``, ``sin(theta) = 2t / (1 + t^2)`` and
-    ``1 - cos(theta) = t sin(theta)``, so
+    One tangent gives the whole matrix, at every angle from 0 up to ``theta = 1e145``.
+    With ``h = theta/2``, ``t = tan(h)`` and ``u = t n = (t/h) phi/2`` (so ``|u| = t``),
 
-    .. math:: A = \frac{t/h}{1 + t^2}, \qquad B = \frac{A\,(t/h)}{2}.
+    .. math:: R = \frac{(1 - t^2)\,I + 2uu^T + 2\hat u}{1 + t^2},
 
-    Nothing cancels: not at small angles, where ``t/h`` tends to 1 and ``A`` and ``B``
-    to 1 and 1/2 with no Taylor branch (``theta^2`` is raised to 1e-300 first, so
-    ``phi = 0`` gives ``I``), unlike the naive ``(1 - cos t)/t^2`` (notebook 02, "Small
-    angles"); and not near ``theta = pi``, where ``t`` is large and ``A`` stays exact.
-    Above ``theta = 1e145``, where ``B`` would leave the normal floats, the unit-axis
-    form ``I + sin(theta) hat(n) + (1 - cos(theta)) hat(n)^2`` is used instead.
+    which is Rodrigues' formula term by term: ``(1 - t^2)/(1 + t^2) = cos(theta)``,
+    ``2t/(1 + t^2) = sin(theta)`` and ``2t^2/(1 + t^2) = 1 - cos(theta)`` (it is also the
+    rotation of the unit quaternion ``(1, u)/sqrt(1 + t^2)``, notebook 05). Nothing
+    cancels: not at small angles, where ``t/h`` is 1 to the last bit (no Taylor branch;
+    ``theta^2`` is raised to 1e-300 first, so ``phi = 0`` gives ``I``), unlike the naive
+    ``(1 - cos t)/t^2`` (notebook 02, "Small angles"); and not near ``theta = pi``,
+    where ``t`` is large and every term keeps its digits. Above ``theta = 1e145`` the
+    unit axis gives ``u = t n`` directly, so that nothing is squared at that scale.
 
-    The matrix is ``B phi phi^T + A hat(phi) + cos(theta) I`` (the Lemma
-    ``hat(phi)^2 = phi phi^T - theta^2 I``), with ``cos(theta) = 1 - B theta^2``. A
-    batch is computed in blocks of a few thousand rotations by one kernel
-    (:func:`_exp_block`), for one rotation as for a million.
+    The entries are written out with the Lemma (``u u^T - |u|^2 I = hat(u)^2``) and
+    summed by one exact matrix product (:func:`_from_tangent`). A batch is computed in
+    blocks of a few thousand rotations by one kernel (:func:`_exp_block`), for one
+    rotation as for a million.
+
+    The formula above is what ``exp`` computes, to the last bit (a test runs this):
+
+    >>> import numpy as np
+    >>> from so3lib import exp
+    >>> same = []
+    >>> for z in (1e-200, 1e-9, 1e-4, 0.5, 3.0, np.pi - 1e-9, 1e6, 1e140):  # phi = (0,0,z)
+    ...     h = z / 2                               # theta = z
+    ...     t = np.tan(h)
+    ...     R = exp([0.0, 0.0, z])
+    ...     same.append(bool(R[1, 0] == (t / h * z) / (1 + t * t)
+    ...                      and R[0, 0] == (1 - t * t) / (1 + t * t)))
+    >>> same
+    [True, True, True, True, True, True, True, True]
     """
     omega = as_vectors(omega, 3, "omega", "exp", finite=False)    # NaN: found below
     tau = as_times(tau, "exp")
@@ -193,54 +208,39 @@ def _index(idx):
     return "[" + ", ".join(map(str, idx)) + "]"
 
 
-def _coefficients(theta2):
-    r"""``A = sin(theta)/theta`` and ``B = (1 - cos(theta))/theta^2`` from ``theta^2``.
-
-    One tangent gives both (notebook 02): with ``h = theta/2``, ``t = tan(h)`` and
-    ``g = t/h``, ``A = g / (1 + t^2)`` and ``B = A g / 2``. ``theta^2`` is raised to
-    1e-300 first: below that ``g = 1`` exactly, so ``A = 1`` and ``B = 1/2``, the
-    Taylor values (spec S10), and ``theta = 0`` divides nothing by zero.
-    """
-    h = np.sqrt(np.maximum(theta2, 1e-300))
-    h *= 0.5
-    t = np.tan(h)
-    g = t / h                                   # tan(h)/h, 1 at h = 0
-    den = t * t
-    den += 1.0                                  # 1 + t^2 = 1/cos^2(h)
-    A = g / den
-    B = A * g
-    B *= 0.5
-    return A, B
-
-
-# Rodrigues' formula as one matrix product. Each of the nine entries of R is the sum of
-# two of the 13 numbers F = (c, A x, A y, A z, (B x) x, (B x) y, (B x) z, (B y) x, ...,
-# (B z) z): R_ii = c + B p_i p_i and R_ij = B p_i p_j -+ A p_k, as hat(p) places A p_k;
-# R_ij and R_ji take the same product (B p_i) p_j, i <= j, so that R(-phi) = R(phi)^T
-# exactly. Row k of _COMBINE holds the coefficients (0, 1 or -1) of F_k in the entries.
+# Rodrigues' formula as one matrix product. With 2u = 2 t n (h = theta/2, t = tan(h),
+# n the unit axis), each of the nine entries of (1 + t^2) R is the sum of two of the 13
+# numbers F = (1 - t^2, 2u_x, 2u_y, 2u_z, (2u_x)(2u_x), (2u_x)(2u_y), ..., (2u_z)(2u_z)):
+# the diagonal 1 - t^2 + (2u_i)^2 / 2, the rest (2u_i)(2u_j) / 2 -+ 2u_k, as hat(2u)
+# places 2u_k. Row k of _COMBINE holds the coefficients (0, +-1 or 1/2) of F_k in the
+# nine entries, row by row; R_ij and R_ji take the same product (i <= j).
 _COMBINE = np.zeros((13, 9))
-_COMBINE[0, ::4] = 1.0                          # c on the diagonal
+_COMBINE[0, ::4] = 1.0                          # 1 - t^2 on the diagonal
 for _i in range(3):
     for _j in range(3):
-        _COMBINE[4 + 3 * min(_i, _j) + max(_i, _j), 3 * _i + _j] = 1.0   # B p_i p_j
+        _COMBINE[4 + 3 * min(_i, _j) + max(_i, _j), 3 * _i + _j] = 0.5     # 2 u_i u_j
 _COMBINE[[3, 2, 3, 1, 2, 1], [1, 2, 3, 5, 6, 7]] = [-1.0, 1.0, 1.0, -1.0, -1.0, 1.0]  # hat
 
 
-def _rodrigues(p, A, B, c, out):
-    r"""``out = B p p^T + A hat(p) + c I``, each matrix as a row of nine entries.
+def _from_tangent(k, p, t, out):
+    r"""``out`` = the rotations with ``2u = k p`` and ``t = |u| = tan(theta/2)``, each
+    matrix as a row of nine entries:
 
-    ``p`` has shape (3, m) (the components of m vectors), ``A``, ``B``, ``c`` shape (m,);
-    with ``c = 1 - B |p|^2`` this is Rodrigues' formula
-    :math:`I + A\hat p + B\hat p^2` (the Lemma :math:`\hat p^2 = pp^T - |p|^2 I`).
-    The product with ``_COMBINE`` adds two nonzero numbers per entry and exact zeros,
-    so it rounds once, like ``B p_i p_j - A p_k`` written out, in any order of summation.
+    .. math:: R = \frac{(1 - t^2)\,I + 2uu^T + 2\hat u}{1 + t^2}
+
+    ``p`` has shape (3, m) (rotation vectors or unit axes, as columns), ``k`` and ``t``
+    shape (m,). The product with ``_COMBINE`` adds two nonzero numbers per entry and
+    exact zeros, so it rounds once, in any order of summation: a batch and one rotation
+    get the same bits.
     """
-    F = np.empty((13, p.shape[1]))
-    F[0] = c
-    np.multiply(A, p, out=F[1:4])
-    np.multiply((B * p)[:, None, :], p, out=F[4:].reshape(3, 3, -1))
+    F = np.empty((13, len(t)))
+    np.multiply(k, p, out=F[1:4])                               # 2u
+    np.multiply(F[1:4, None, :], F[1:4], out=F[4:].reshape(3, 3, -1))   # (2u_i)(2u_j)
+    tt = t * t
+    np.subtract(1.0, tt, out=F[0])
+    tt += 1.0
+    F /= tt                                     # everything over 1 + t^2
     np.matmul(F.T, _COMBINE, out=out)
-    out += 0.0                                  # + 0.0 turns -0.0 into 0.0 for printing
 
 
 def _exp_block(rows, scale, out):
@@ -255,10 +255,10 @@ def _exp_block(rows, scale, out):
     theta2 = np.einsum("ij,ij->i", phi, phi)
     if not theta2.max() <= _SQ_HI:              # also False for NaN
         return False
-    A, B = _coefficients(theta2)
-    c = B * theta2
-    np.subtract(1.0, c, out=c)                  # cos(theta) = 1 - B theta^2
-    _rodrigues(phi.T.copy(), A, B, c, out)      # x, y, z as contiguous rows
+    h = np.sqrt(np.maximum(theta2, 1e-300))     # 1e-300: phi = 0 divides nothing by 0
+    h *= 0.5                                    # half the angle
+    t = np.tan(h)
+    _from_tangent(t / h, phi.T, t, out)         # 2u = 2 t n = (t/h) phi
     return True
 
 
@@ -271,22 +271,21 @@ def _scaled(rows, scale):
 
 
 def _exp_huge_block(rows, scale, out):
-    """A block with some ``1e145 < |phi| < 1e308``: those rows in the unit-axis form
-    ``I + sin(theta) hat(n) + (1 - cos(theta)) hat(n)^2``, the others as usual."""
+    """A block with some ``1e145 < |phi| < 1e308``: those rows from the unit axis,
+    ``2u = 2 t n``, so that nothing is squared at the scale of ``phi``; the others as
+    usual."""
     phi = _scaled(rows, scale)
     theta2 = np.einsum("ij,ij->i", phi, phi)
     huge = theta2 > _SQ_HI
-    p = phi.T.copy()
-    p[:, huge], theta2[huge] = 0.0, 0.0         # placeholders, replaced below
-    A, B = _coefficients(theta2)
-    _rodrigues(p, A, B, 1.0 - B * theta2, out)
+    small = np.flatnonzero(~huge)
+    if len(small):
+        small_out = np.empty((len(small), 9))
+        _exp_block(phi[small], 1.0, small_out)
+        out[small] = small_out
     theta, n = _angle_and_axis(phi[huge])
     t = np.tan(0.5 * theta)
-    sin = (t + t) / (1.0 + t * t)
-    one_minus_cos = sin * t
-    nn = np.einsum("ij,ij->i", n, n)
     huge_out = np.empty((len(n), 9))
-    _rodrigues(n.T.copy(), sin, one_minus_cos, 1.0 - one_minus_cos * nn, huge_out)
+    _from_tangent(t + t, n.T, t, huge_out)
     out[huge] = huge_out
 
 

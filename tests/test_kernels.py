@@ -7,6 +7,11 @@ them one rotation at a time. Here the hard cases, and rotation vectors too long 
 sides of a block boundary, and must come out identical.
 """
 
+import doctest
+import math
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -100,3 +105,50 @@ def test_exp_forms_omega_times_tau_first(omega, tau):
     assert np.isfinite(R).all()
     assert np.array_equal(R, so3lib.exp(omega * tau))
     assert np.array_equal(so3lib.exp(np.stack([omega] * 3), tau)[1], R)
+
+
+# --- The docstrings and the README say what the kernels do --------------------------------
+
+README = Path(__file__).resolve().parent.parent / "README.md"
+
+
+def _readme_section(title):
+    text = README.read_text(encoding="utf-8")
+    start = text.index(f"\n## {title}\n")
+    end = text.find("\n## ", start + 1)
+    return text[start:end if end > 0 else None]
+
+
+def test_exp_docstring_example_is_what_exp_computes():
+    """exp's Notes show the one-tangent formula as an example; it runs here, bit for bit,
+    from 1e-200 (no Taylor branch) to 1e140 (just below the unit-axis form)."""
+    result = doctest.testmod(so3, optionflags=doctest.ELLIPSIS)
+    assert result.failed == 0 and result.attempted >= 5
+
+
+def test_docs_state_the_kernels_own_bound():
+    """The one bound of exp's method, theta = 1e145, is the code's, in the docstrings and
+    in the README; no Taylor branch is claimed for exp."""
+    bound = f"{math.sqrt(so3._SQ_HI):.0e}".replace("e+", "e")            # '1e145'
+    assert f"up to ``theta = {bound}``" in " ".join(so3lib.exp.__doc__.split())
+    assert f"up to ``theta = {bound}``" in " ".join(so3lib.series.__doc__.split())
+    lib = " ".join(_readme_section("The library in one screen").split())
+    assert f"One tangent gives the whole matrix, for every angle from 0 up to θ = {bound}" in lib
+    assert "There is no Taylor branch" in lib
+    assert "Taylor" not in " ".join(so3lib.exp.__doc__.split()).replace("no Taylor branch", "")
+
+
+def test_readme_performance_table_lists_every_size_of_the_goal():
+    """The Performance section carries the goal's ratio table for every N of the bench."""
+    perf = _readme_section("Performance")
+    from benchmark import RATIO_SIZES
+    for n in RATIO_SIZES:
+        assert re.search(rf"^\| {n} \|", perf, re.M), n
+
+
+def test_exp_never_returns_negative_zero():
+    """Signed zeros in, no -0.0 out (printed as '-0.' it would unsettle notebooks)."""
+    phi = np.array([[-0.0, 0.0, -1.0], [0.0, -0.0, 2.0], [-1.0, -0.0, 0.0], [-0.0, -0.0, -0.0],
+                    [0.0, 0.0, -np.pi], [-3.0, 0.0, -0.0]])
+    for R in (so3lib.exp(phi), *map(so3lib.exp, phi), so3lib.exp(phi, -1.0)):
+        assert not (np.signbit(R) & (R == 0)).any()

@@ -119,3 +119,126 @@ def test_messages_never_show_the_expected_value():
     secret = np.array([[0.0, -3.125, 2.375], [3.125, 0.0, -1.5], [-2.375, 1.5, 0.0]])
     fb = check_function(lambda a: np.eye(3), lambda a: secret, INPUTS, "hat")
     assert not fb and "3.125" not in repr(fb) and "2.375" not in repr(fb)
+
+
+# --- nothing in so3lib.exercises answers an exercise, no message shows an expected value --
+
+def _public(module):
+    names = getattr(module, "__all__", None)
+    if names is None:
+        names = [n for n in dir(module) if not n.startswith("_")]
+    return {f"{module.__name__}.{n}": getattr(module, n) for n in names
+            if callable(getattr(module, n, None)) and not isinstance(getattr(module, n), type(re))}
+
+
+def _exercise_modules():
+    import importlib
+    import pkgutil
+
+    import so3lib.exercises as package
+    return [package] + [importlib.import_module(f"{package.__name__}.{m.name}")
+                        for m in pkgutil.iter_modules(package.__path__)]
+
+
+def _checkers():
+    """Every public check_* of the per-notebook modules that takes one answer."""
+    import inspect
+    found = {}
+    for module in _exercise_modules()[1:]:
+        for name, obj in _public(module).items():
+            if not name.rpartition(".")[2].startswith("check_"):
+                continue
+            try:
+                params = inspect.signature(obj).parameters.values()
+            except (TypeError, ValueError):
+                continue
+            required = [p for p in params if p.default is p.empty
+                        and p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+            if len(required) == 1:
+                found[name] = obj
+    return found
+
+
+def test_no_public_function_of_so3lib_exercises_answers_an_exercise():
+    """Pass every public callable of so3lib.exercises to every checker: none may pass.
+    (A reference answer the checkers need stays private, or lives in the hidden tests.)"""
+    candidates = {}
+    for module in _exercise_modules():
+        candidates.update(_public(module))
+    checkers = _checkers()
+    assert checkers, "no checker found"
+    accepted = []
+    for cname, checker in sorted(checkers.items()):
+        for name, candidate in sorted(candidates.items()):
+            try:
+                fb = checker(candidate)
+            except Exception as err:            # a checker must never raise either
+                accepted.append(f"{cname}({name}) raised {type(err).__name__}: {err}")
+                continue
+            if fb:
+                accepted.append(f"{cname} accepts {name}")
+    assert not accepted, "\n".join(accepted)
+
+
+def _value_exercises():
+    """(notebook, exercise, checker call, expected scalar) for every tagged exercise whose
+    answer is a number, the number computed by running the worked solution."""
+    import contextlib
+    import io
+
+    from tools import assignments
+    from tools.common import course_notebooks, read
+    found = []
+    for path in course_notebooks():
+        nb = read(path)
+        try:
+            exercises = assignments.exercises(nb, path)
+        except assignments.ConventionError:
+            continue                            # tests/test_assignments.py names it
+        setup = [c for c in nb.cells if c.cell_type == "code" and not assignments.tags(c) & {
+            assignments.ANSWER, assignments.CHECK, assignments.SOLUTION, assignments.HIDDEN}]
+        imports = "\n".join(assignments._imports(setup))
+        for ex in exercises:
+            stub = assignments._python(ex.answer.source)
+            if "def " in stub:
+                continue
+            space = {}
+            try:
+                with contextlib.redirect_stdout(io.StringIO()):
+                    exec(imports, space)
+                    exec(assignments._solution(ex), space)
+            except Exception:
+                continue                        # the solution needs the notebook's state
+            names = [n for n in space if n in stub and not n.startswith("_")]
+            values = [space[n] for n in names if np.ndim(space[n]) == 0 and
+                      isinstance(space[n], (int, float, np.number)) and not isinstance(space[n], bool)]
+            if len(values) == 1:
+                found.append((path.name, ex.label, ex.check.source.strip(), float(values[0]), space))
+    return found
+
+
+def _shown(x):
+    forms = {f"{x:.6g}", f"{x:.4g}", f"{x:g}", repr(x), str(x)}
+    if float(x).is_integer():
+        forms.add(str(int(x)))
+    return forms
+
+
+def test_no_checker_message_shows_the_expected_number():
+    cases = _value_exercises()
+    leaks = []
+    for notebook, label, call, value, space in cases:
+        name = call[call.index("(") + 1:call.rindex(")")].strip()
+        checker = space[call[:call.index("(")].strip()]
+        expected = {s for s in _shown(value) if len(s.lstrip("-").replace(".", "")) >= 3}
+        for wrong in {value + 1, 2 * value + 1, -value, 0.5 * value + 0.25, 0.0}:
+            if np.isclose(wrong, value):
+                continue
+            text = repr(checker(wrong))
+            for form in sorted(_shown(wrong), key=len, reverse=True):
+                text = text.replace(form, "#")
+            shown = sorted(s for s in expected if s in text)
+            if shown:
+                leaks.append(f"{notebook} exercise {label}: {name} = {wrong:g} gets a message "
+                             f"showing {shown}: {text!r}")
+    assert not leaks, "\n".join(leaks)

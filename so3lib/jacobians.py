@@ -28,21 +28,16 @@ singular exactly at :math:`\theta = 2\pi, 4\pi, \dots`, where :math:`D` has its 
 
 Notation
 --------
-=========================  ===============================  ==========================
-here                       meaning                          elsewhere
-=========================  ===============================  ==========================
-``right_jacobian(phi)``    :math:`J_r(\varphi)`             Sola et al. (eq. 143):
-                                                            :math:`J_r(\theta)`;
-                                                            Barfoot: :math:`J(-\phi)`
-``left_jacobian(phi)``     :math:`J_l(\varphi)`             Sola et al. (eq. 145);
-                                                            Barfoot: :math:`J(\phi)`
-``oplus(R, delta)``        :math:`R \oplus \delta = R e^{\hat\delta}`   Sola et al. (eq. 25)
-``ominus(R1, R0)``         :math:`R_1 \ominus R_0 = \mathrm{Log}(R_0^T R_1)`  (eq. 26)
-=========================  ===============================  ==========================
+- ``right_jacobian(phi)`` is :math:`J_r(\varphi)` of Sola et al. (appendix B) and
+  Barfoot's :math:`J(-\phi)`; ``left_jacobian(phi)`` is their :math:`J_l(\varphi)` and
+  Barfoot's :math:`J(\phi)`.
+- ``oplus(R, delta)`` is :math:`R \oplus \delta = R e^{\hat\delta}` and
+  ``ominus(R1, R0)`` is :math:`R_1 \ominus R_0 = \mathrm{Log}(R_0^T R_1)`: Sola et al.'s
+  "right plus" and "right minus", with the perturbation in the body frame.
 
 References: J. Sola, J. Deray, D. Atchuthan, "A micro Lie theory for state estimation in
-robotics" (2018), section IV and appendix B; T. D. Barfoot, "State Estimation for
-Robotics" (2017), section 7.1; notebook 06 of the course.
+robotics" (2018), appendix B; T. D. Barfoot, "State Estimation for
+Robotics" (2017), chapter 7; notebook 06 of the course.
 """
 
 import math
@@ -274,7 +269,7 @@ def right_jacobian(phi):
               + \frac{\theta - \sin\theta}{\theta^3}\,\hat\varphi^2,
               \qquad \theta = \lVert\varphi\rVert
 
-    (spec S22; Sola et al. eq. 143). Its singular values are 1 and
+    (spec S22; Sola et al., appendix B). Its singular values are 1 and
     :math:`\lvert\sin(\theta/2)/(\theta/2)\rvert` (twice).
 
     Parameters
@@ -313,7 +308,7 @@ def left_jacobian(phi):
               + \frac{\theta - \sin\theta}{\theta^3}\,\hat\varphi^2
               = J_r(-\varphi) = J_r(\varphi)^T
 
-    (Sola et al. eq. 145; Barfoot's :math:`J`). Parameters, result, errors and accuracy
+    (Sola et al., appendix B; Barfoot's :math:`J`). Parameters, result, errors and accuracy
     as :func:`right_jacobian`.
     """
     return _forward(phi, 1.0, "left_jacobian")
@@ -326,7 +321,7 @@ def right_jacobian_inv(phi):
               + \Big(\frac1{\theta^2} - \frac{1 + \cos\theta}{2\theta\sin\theta}\Big)
               \hat\varphi^2
 
-    (Sola et al. eq. 144). To first order, :math:`\mathrm{Log}(e^{\hat\varphi}
+    (Sola et al., appendix B). To first order, :math:`\mathrm{Log}(e^{\hat\varphi}
     e^{\hat\delta}) \approx \varphi + J_r^{-1}(\varphi)\,\delta` for
     :math:`\lVert\varphi\rVert < \pi`.
 
@@ -377,7 +372,7 @@ def oplus(R, delta):
 
     .. math:: R \oplus \delta = R\, e^{\hat\delta}
 
-    (Sola et al. eq. 25, the "right plus").
+    (Sola et al.'s "right plus").
 
     Parameters
     ----------
@@ -409,7 +404,7 @@ def ominus(R1, R0):
     .. math:: R_1 \ominus R_0 = \mathrm{Log}(R_0^T R_1), \qquad
               R_0 \oplus (R_1 \ominus R_0) = R_1
 
-    (Sola et al. eq. 26, the "right minus"); the principal logarithm, so
+    (Sola et al.'s "right minus"); the principal logarithm, so
     ``|R1 ominus R0| <= pi``.
 
     Parameters

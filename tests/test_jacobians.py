@@ -80,6 +80,22 @@ def test_inverse_jacobian_matches_reference(phi, side, func):
     assert err <= bound, f"error {err:.1f} eps at theta = {theta!r}"
 
 
+def test_random_rotation_vectors_match_reference(rng):
+    """300 random axes, angles log-uniform from 1e-12 to 1e3 (forward) and uniform in
+    [0, 2 pi) (inverses): the same bounds as on the hard cases."""
+    for _ in range(300):
+        n = rng.standard_normal(3)
+        n /= np.linalg.norm(n)
+        phi = 10 ** rng.uniform(-12, 3) * n
+        theta = float(np.linalg.norm(phi))
+        assert entry_error(right_jacobian(phi), jacobian_ref(phi)) <= 8 * max(1.0, theta)
+        phi = rng.uniform(0.0, TWO_PI) * n
+        theta = float(np.linalg.norm(phi))
+        if theta < TWO_PI:
+            err = entry_error(right_jacobian_inv(phi), jacobian_ref(phi, inverse=True))
+            assert err <= 8 * max(1.0, theta) * conditioning(theta), (theta, err)
+
+
 @pytest.mark.parametrize("d", [1e-1, 1e-3, 1e-6, 1e-9, 1e-12])
 def test_inverse_near_two_pi_is_within_its_conditioning(d):
     n = np.array([1.0, 2.0, 3.0]) / math.sqrt(14.0)

@@ -16,6 +16,7 @@ NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sani
 .PHONY: help lab test test-lib test-notebooks test-browser execute bench slides book student clean
 .PHONY: assignments grade
 .PHONY: lint lint-lib
+.PHONY: slides-solutions handouts
 
 help:
 	@echo "make lab      open the course in JupyterLab (sets up .venv the first time)"
@@ -24,6 +25,8 @@ help:
 	@echo "make bench    time so3lib's exp and log against scipy"
 	@echo "make lint     ruff on so3lib, tests, tools and the notebooks (part of make test)"
 	@echo "make slides   a reveal.js deck per notebook in build/slides/ (presents offline)"
+	@echo "make handouts a PDF of each deck, one page per slide, in build/handouts/"
+	@echo "make slides-solutions  the decks with the worked solutions, build/slides-solutions/"
 	@echo "make book     the course as a web site, build/book/index.html (reads offline)"
 	@echo "make student  the notebooks without worked solutions, in build/student/"
 	@echo "make assignments  nbgrader coursework from the notebooks, in build/coursework/"
@@ -58,9 +61,9 @@ lint-lib: $(STAMP)
 test-notebooks: $(STAMP)
 	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) $(NOTEBOOKS)
 
-# Only the tests that drive Chromium: slides, book and JupyterLab.
+# Only the tests that drive Chromium: decks, handouts, book and JupyterLab.
 test-browser: $(STAMP)
-	$(BIN)/python -m pytest -n 2 --dist loadfile tests/test_browser.py tests/test_book.py
+	$(BIN)/python -m pytest -n 2 --dist loadfile tests/test_browser.py tests/test_slides.py tests/test_book.py
 
 # Timing metadata is dropped and consecutive prints merged into one output, so that
 # re-executing an unchanged notebook leaves its file unchanged.
@@ -78,6 +81,14 @@ bench: $(STAMP)
 # first time (into build/npm/) and rebuilds only what changed.
 slides: $(STAMP)
 	$(BIN)/python -m tools.slides
+
+# The decks with the worked solutions, for after the coursework's deadline (a separate folder).
+slides-solutions: $(STAMP)
+	$(BIN)/python -m tools.slides --solutions
+
+# One PDF page per slide, printed by Chromium through reveal's print view, offline.
+handouts: $(STAMP)
+	$(BIN)/python -m tools.slides --handouts
 
 book: $(STAMP)
 	$(BIN)/python -m tools.book

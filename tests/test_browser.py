@@ -1,10 +1,10 @@
-"""The lecture slides and JupyterLab in a real browser (Chromium, driven by Playwright).
+"""The slide build and JupyterLab in a real browser (Chromium, driven by Playwright).
 
-Each deck is built once per session (tools/slides.py, into build/slides/), opened
-from file:// with every network request blocked, and must start reveal.js, typeset its
-math and move on arrow keys. JupyterLab is started the way `make lab` starts it, opens
-notebook 01, runs every cell and must show no error output. Screenshots of each go to
-build/screenshots/. Without Chromium these tests are skipped (see browser_support.py).
+A small deck made here, opened from file:// with every network request blocked, shows what
+the slide types and tags do, and S opens its speaker view (every course deck is tested in
+tests/test_slides.py). JupyterLab is started the way `make lab` starts it, opens notebook
+01, runs every cell and must show no error output. Screenshots go to build/screenshots/.
+Without Chromium these tests are skipped (see browser_support.py).
 """
 
 import hashlib
@@ -21,10 +21,15 @@ import urllib.request
 
 import nbformat
 import pytest
+from browser_support import (
+    ROOT,
+    Offline,
+    chromium_executable,
+    require_chromium,
+    screenshot,
+)
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 
-from browser_support import (MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, chromium_executable,
-                             require_chromium, screenshot)
 from tools import slides
 from tools.common import course_notebooks, read
 
@@ -32,6 +37,7 @@ pytestmark = pytest.mark.browser
 
 NOTEBOOKS = course_notebooks()
 SLIDE_TYPES = {"slide", "subslide", "fragment", "skip", "notes", "-"}
+DECK_MATH_ERRORS = "mjx-merror, [data-mjx-error]"  # MathJax 3, the decks' SVG output
 
 
 def _build(what, *args):
@@ -41,12 +47,6 @@ def _build(what, *args):
         if os.environ.get("CI"):
             pytest.fail(str(e))
         pytest.skip(str(e))
-
-
-@pytest.fixture(scope="session")
-def decks():
-    out = ROOT / "build" / "slides"  # what `make slides` writes; only changed decks are rebuilt
-    return {p.name.removesuffix(".slides.html"): p for p in _build(slides.build, out)}
 
 
 def _open_deck(browser, path):
@@ -59,19 +59,11 @@ def _open_deck(browser, path):
 
 
 def _ready(page):
+    # the deck's start-up script sets this once reveal.js is up, MathJax has typeset every
+    # formula and the figures are sized (tools/templates/course_slides/index.html.j2)
     page.wait_for_function("window.Reveal && Reveal.isReady()")
-    page.wait_for_function(MATHJAX_IDLE)
+    page.wait_for_function("document.documentElement.dataset.deckReady === '1'")
     page.bring_to_front()
-
-
-@pytest.fixture(scope="session")
-def open_decks(browser, decks):
-    """Every deck, loading side by side: a deck's load is mostly waiting, not computing,
-    so the decks take little longer together than one alone."""
-    opened = {name: _open_deck(browser, path) for name, path in decks.items()}
-    yield opened
-    for offline, _ in opened.values():
-        offline.close()
 
 
 def _indices(page):
@@ -91,24 +83,6 @@ def test_every_cell_has_a_slide_type():
                for p in NOTEBOOKS for i, c in enumerate(read(p).cells)
                if c.metadata.get("slideshow", {}).get("slide_type") not in SLIDE_TYPES]
     assert not missing, "cells without a valid slide_type:\n" + "\n".join(missing)
-
-
-@pytest.mark.parametrize("name", [p.stem for p in NOTEBOOKS])
-def test_deck_presents_offline(open_decks, name):
-    offline, page = open_decks[name]
-    _ready(page)
-    total = page.evaluate("Reveal.getTotalSlides()")
-    assert total >= 2, f"{name}: only {total} slide"
-    jax = page.evaluate("MathJax.Hub.getAllJax().length")
-    typeset = page.locator(".MathJax_CHTML").count()
-    assert jax > 0 and typeset == jax, f"{name}: {typeset} of {jax} formulas typeset"
-    assert page.locator(MATHJAX_ERRORS).count() == 0, f"{name}: MathJax reports a TeX error"
-    first = _indices(page)
-    second = _press(page, "ArrowRight")
-    assert second != first
-    screenshot(page, f"slides_{name}")
-    assert _press(page, "ArrowLeft") == first
-    assert not offline.problems(), offline.problems()
 
 
 def _meta(cell, slide_type):

@@ -127,14 +127,16 @@ def _hang(inner):
                 current, text = list(stack), []
             current.append(part)
             text.append(part)
-    if "".join(text).strip() or current and any(not t.startswith("<") for t in current):
+    if "".join(text):  # the last line, unless the code ended with a newline
         current.append("</span>" * len(stack))
         lines.append(("".join(current), "".join(text)))
     out = []
     for body, plain in lines:
         plain = htmllib.unescape(plain)
         indent = len(plain) - len(plain.lstrip(" "))
-        out.append(f'<span class="cl" style="--ind:{indent}ch">{body or " "}</span>')
+        # the newline stays in the text (copying code from a slide keeps its lines); at the
+        # end of a block it adds no blank line
+        out.append(f'<span class="cl" style="--ind:{indent}ch">{body}\n</span>')
     return "".join(out)
 
 
@@ -328,6 +330,15 @@ def measure(deck, browser, screenshots=None, screens=SCREENS):
     'problems_at' {"WxH": [...]} at each screen size (and 'shot', the screenshot's path,
     when SCREENSHOTS is a folder); and the deck's blocked requests and page errors."""
     d = OfflineDeck(browser, deck, *screens[0])
+    try:
+        return measure_open(d, screenshots, screens)
+    finally:
+        d.close()
+
+
+def measure_open(d, screenshots=None, screens=SCREENS):
+    """measure() on a deck already opened (an OfflineDeck at the first screen size), left
+    open at that size."""
     page = d.ready()
     slides = page.evaluate(MEASURE_JS)
     for m in slides:
@@ -347,9 +358,10 @@ def measure(deck, browser, screenshots=None, screens=SCREENS):
             goto(page, m["h"], m["v"])
             m["shot"] = str(Path(screenshots) / f"{k:02d}_{m['h']}-{m['v']}.png")
             page.screenshot(path=m["shot"])
-    result = {"slides": slides, "blocked": list(d.blocked), "errors": list(d.errors)}
-    d.close()
-    return result
+    else:
+        page.set_viewport_size({"width": screens[0][0], "height": screens[0][1]})
+        page.evaluate("() => Reveal.layout()")
+    return {"slides": slides, "blocked": list(d.blocked), "errors": list(d.errors)}
 
 
 def slide_faults(m, deck_name=""):
@@ -473,23 +485,32 @@ def handouts(decks, out=OUT_HANDOUTS, browser=None):
     own = browser is None
     if own:
         pw, browser = launch()
-    written = []
+    written, todo = [], []
     try:
         for deck in decks:
             deck = Path(deck)
             target = out / (deck.name.removesuffix(".slides.html") + ".pdf")
-            d = OfflineDeck(browser, deck, WIDTH, HEIGHT, query="?print-pdf")
+            written.append(target)
+            if not (target.exists() and target.stat().st_mtime >= deck.stat().st_mtime):
+                todo.append((deck, target))  # not printed since the deck last changed
+        # every deck starts loading at once (mostly waiting), then each is printed
+        opened = [(deck, target, OfflineDeck(browser, deck, WIDTH, HEIGHT, query="?print-pdf"))
+                  for deck, target in todo]
+        for deck, target, d in opened:
             page = d.ready()
             page.wait_for_function("document.querySelectorAll('.reveal .pdf-page').length > 0")
             page.emulate_media(media="print")
-            page.pdf(path=str(target), width=f"{WIDTH}px", height=f"{HEIGHT}px",
+            tmp = target.with_name(f".{target.name}.tmp")
+            page.pdf(path=str(tmp), width=f"{WIDTH}px", height=f"{HEIGHT}px",
                      print_background=True, prefer_css_page_size=True)
+            tmp.replace(target)
             problems = d.blocked + d.errors
-            d.close()
             if problems:
+                target.unlink(missing_ok=True)
                 raise SystemExit(f"{deck.name}: " + "; ".join(problems))
-            written.append(target)
     finally:
+        for *_, d in locals().get("opened", []):
+            d.close()
         if own:
             browser.close()
             pw.stop()

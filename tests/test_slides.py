@@ -1,0 +1,347 @@
+"""Every lecture deck, as a lecturer would project it (issue 10), in a real Chromium with the
+network blocked.
+
+Each deck is built once per session (tools/slides.py, into build/slides/) and measured once,
+every slide at 1280x720 (and where it lies at 1024x768 and 1920x1080); the tests below read
+that measure against the shape of a lecture deck (tools.slides: SLIDES_MIN.., README "Adding
+a notebook"). The decks are the course's notebooks (tools.common.course_notebooks), so a new
+notebook is covered without touching this file. `python -m tools.slides --report NOTEBOOK`
+prints the same measure slide by slide, with screenshots.
+"""
+
+import html as htmllib
+import os
+import re
+import shutil
+import statistics
+import subprocess
+
+import nbformat
+import pytest
+from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook, new_output
+
+from browser_support import screenshot
+from tools import slides
+from tools.common import course_notebooks, read
+
+pytestmark = pytest.mark.browser
+
+NOTEBOOKS = course_notebooks()
+NAMES = [p.stem for p in NOTEBOOKS]
+PATHS = dict(zip(NAMES, NOTEBOOKS, strict=True))
+
+
+def _build(what, *args, **kwargs):
+    try:
+        return what(*args, **kwargs)
+    except SystemExit as e:  # npm missing or the registry unreachable
+        if os.environ.get("CI"):
+            pytest.fail(str(e))
+        pytest.skip(str(e))
+
+
+@pytest.fixture(scope="session")
+def decks():
+    """name -> built deck; `make slides` output, only changed decks are rebuilt."""
+    return {p.name.removesuffix(".slides.html"): p for p in _build(slides.build, slides.OUT)}
+
+
+@pytest.fixture(scope="session")
+def opened(browser, decks):
+    """name -> the deck open offline at 1280x720; every deck starts loading at once (most of
+    a load is MathJax, and two cores share the decks), and stays open for the tests below."""
+    pages = {name: slides.OfflineDeck(browser, path) for name, path in decks.items()}
+    yield pages
+    for d in pages.values():
+        d.close()
+
+
+@pytest.fixture(scope="session")
+def measured(opened):
+    """name -> the deck's measure (tools.slides.measure), taken once per session."""
+    cache = {}
+
+    def get(name):
+        if name not in cache:
+            shots = slides.SCREENSHOTS / name if os.environ.get("DECK_SCREENSHOTS") else None
+            cache[name] = slides.measure_open(opened[name], screenshots=shots)
+        return cache[name]
+    return get
+
+
+def _where(m):
+    return f"slide {m['h']}.{m['v']} {m['headline'][:40]!r}"
+
+
+def _fail_list(name, what, lines):
+    return f"{name}: {what}:\n  " + "\n  ".join(lines)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_slide_count(measured, name):
+    n = len(measured(name)["slides"])
+    low = 1 if name.startswith("00") else slides.SLIDES_MIN
+    assert low <= n <= slides.SLIDES_MAX, \
+        f"{name}: {n} slides; a 50-minute lecture is {low} to {slides.SLIDES_MAX} (mark detail 'skip')"
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_fonts_readable_from_the_back_row(measured, name):
+    bad = []
+    for m in measured(name)["slides"]:
+        if m["prose_px"] is not None and m["prose_px"] < slides.PROSE_PX - 0.05:
+            bad.append(f"{_where(m)}: prose {m['prose_px']} px ({m['prose_at']})")
+        if m["code_px"] is not None and m["code_px"] < slides.CODE_PX - 0.05:
+            bad.append(f"{_where(m)}: code {m['code_px']} px ({m['code_at']})")
+    assert not bad, _fail_list(name, f"text under {slides.PROSE_PX} px (prose) or "
+                               f"{slides.CODE_PX} px (code) at 1280x720", bad)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_nothing_outside_the_slide(measured, name):
+    bad = [f"{_where(m)} at {screen}: {p}" for m in measured(name)["slides"]
+           for screen, problems in m["problems_at"].items() for p in problems]
+    assert not bad, _fail_list(name, "content outside the slide or cut off (split the slide, "
+                               "or mark a cell 'skip')", bad)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_words_of_prose(measured, name):
+    ms = measured(name)["slides"]
+    bad = [f"{_where(m)}: {m['words']} words" for m in ms if m["words"] > slides.WORDS_MAX]
+    median = statistics.median(m["words"] for m in ms)
+    if median > slides.WORDS_MEDIAN:
+        bad.append(f"median {median:g} words per slide > {slides.WORDS_MEDIAN}")
+    assert not bad, _fail_list(name, f"more than {slides.WORDS_MAX} words of prose", bad)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_lines_of_code(measured, name):
+    bad = [f"{_where(m)}: {m['code_lines']} lines" for m in measured(name)["slides"]
+           if m["code_lines"] > slides.CODE_LINES_MAX]
+    assert not bad, _fail_list(name, f"more than {slides.CODE_LINES_MAX} lines of code", bad)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_one_headline_per_slide(measured, name):
+    bad = [f"slide {m['h']}.{m['v']}" for m in measured(name)["slides"] if not m["headline"]]
+    assert not bad, _fail_list(name, "slides without a headline (## or ###)", bad)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_figures_fill_the_slide_and_have_alt_text(measured, name):
+    bad = []
+    for m in measured(name)["slides"]:
+        for f in m["figures"]:
+            if not f["big"]:
+                bad.append(f"{_where(m)}: figure {f['w']}x{f['h']} px, under half the slide")
+            if f["alt"] == "":
+                bad.append(f"{_where(m)}: figure without alt text (metadata.mystnb.image.alt)")
+    assert not bad, _fail_list(name, "figures", bad)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_maths_typesets(measured, name):
+    bad = [f"{_where(m)}: {m['math_errors']} TeX errors" for m in measured(name)["slides"]
+           if m["math_errors"]]
+    assert not bad, _fail_list(name, "MathJax errors", bad)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_no_network_requests_and_no_errors(measured, name):
+    result = measured(name)
+    problems = [f"network request: {u}" for u in result["blocked"]] + result["errors"]
+    assert not problems, _fail_list(name, "the deck is not self-contained", problems)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_deck_presents_offline(opened, measured, name):
+    """The deck starts with no network, typesets every formula, and the arrow keys step
+    through it; a screenshot of its first slide goes to build/screenshots/."""
+    measured(name)
+    page = opened[name].ready()
+    jax = page.evaluate("Array.from(MathJax.startup.document.math).length")
+    drawn = page.locator("mjx-container > svg").count()
+    assert jax > 0 and drawn == jax, f"{name}: {drawn} of {jax} formulas typeset"
+    page.bring_to_front()
+    page.evaluate("Reveal.slide(0, 0)")
+    before = page.evaluate("JSON.stringify(Reveal.getIndices())")
+    page.keyboard.press("ArrowRight")
+    page.wait_for_function(f"JSON.stringify(Reveal.getIndices()) !== {before!r}")
+    page.keyboard.press("ArrowLeft")
+    page.wait_for_function(f"JSON.stringify(Reveal.getIndices()) === {before!r}")
+    screenshot(page, f"slides_{name}")
+
+
+def _kept_notes_cells(path):
+    return [c for c in read(path).cells
+            if c.metadata.get("slideshow", {}).get("slide_type") == "notes"
+            and not slides.DECK_DROPS & set(c.metadata.get("tags", []))]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_speaker_notes_reach_the_deck(measured, decks, name):
+    """Every notes cell of the notebook is in the deck's speaker view, and the deck has notes."""
+    cells = _kept_notes_cells(PATHS[name])
+    in_deck = decks[name].read_text().count('<aside class="notes">')
+    assert in_deck == len(cells), f"{name}: {len(cells)} notes cells, {in_deck} in the deck"
+    with_notes = sum(1 for m in measured(name)["slides"] if m["notes_words"])
+    assert with_notes > 0, f"{name}: no slide has speaker notes (slide_type 'notes')"
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_speaker_notes_typeset_maths_once(opened, measured, name):
+    """The speaker view (S) copies a slide's notes into a window without the deck's styles:
+    each formula must show once there, drawn, with no second plain-text copy. Checked by doing
+    what the speaker view does (the notes' HTML into an unstyled page) for every slide with
+    notes; test_alt_text_hanging_indent_and_speaker_view presses S on a deck made here."""
+    ms = [m for m in measured(name)["slides"] if m["notes_words"]]
+    if not ms:
+        pytest.skip(f"{name} has no speaker notes (test_speaker_notes_reach_the_deck fails)")
+    d = opened[name]
+    blank = d.context.new_page()
+    try:
+        notes = d.ready().evaluate("""() => Reveal.getSlides().map(s =>
+          [...s.querySelectorAll('aside.notes')].map(a => a.innerHTML).join(''))""")
+        bad = []
+        for m in ms:
+            k = next(i for i, x in enumerate(measured(name)["slides"]) if x is m)
+            seen = blank.evaluate("""html => {
+              document.body.innerHTML = '<div class="value">' + html + '</div>';
+              const v = document.querySelector('.value');
+              const boxes = [...v.querySelectorAll('mjx-container')];
+              const plain = [...v.querySelectorAll('mjx-assistive-mml')].filter(e => {
+                const cs = getComputedStyle(e);
+                return !(cs.position === 'absolute' && cs.clip.startsWith('rect')); });
+              return {n: boxes.length, drawn: boxes.filter(b => b.querySelector(':scope > svg')
+                && b.querySelector(':scope > svg').getBoundingClientRect().width > 0).length,
+                plain: plain.length}; }""", notes[k])
+            if seen["n"] != m["notes_math"] or seen["drawn"] != seen["n"] or seen["plain"]:
+                bad.append(f"{_where(m)}: {seen['drawn']} of {m['notes_math']} formulas drawn, "
+                           f"{seen['plain']} shown twice")
+        assert not bad, _fail_list(name, "speaker notes' maths", bad)
+    finally:
+        blank.close()
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_no_solution_in_the_default_deck(decks, name):
+    """No line of a cell tagged solution / hidden-test / answer / check is in the deck."""
+    text = htmllib.unescape(re.sub(r"<[^>]+>", "", decks[name].read_text()))
+    lines = {ln.strip() for ln in text.splitlines()}
+    leaked = [ln for ln in slides.solution_lines(PATHS[name]) if ln in lines]
+    assert not leaked, _fail_list(name, "lines of worked solutions in the default deck", leaked[:10])
+
+
+def _pdf_pages(pdf):
+    if shutil.which("pdfinfo"):
+        out = subprocess.run(["pdfinfo", str(pdf)], capture_output=True, text=True, check=True)
+        return int(re.search(r"^Pages:\s+(\d+)", out.stdout, re.MULTILINE).group(1))
+    return len(re.findall(rb"/Type\s*/Page[^s]", pdf.read_bytes()))
+
+
+@pytest.fixture(scope="session")
+def handouts(browser, decks):
+    """name -> the deck's handout PDF (`make handouts`), printed once per session."""
+    pdfs = _build(slides.handouts, list(decks.values()), slides.OUT_HANDOUTS, browser=browser)
+    return {p.stem: p for p in pdfs}
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_handout_has_one_page_per_slide(handouts, measured, name):
+    pages, n = _pdf_pages(handouts[name]), len(measured(name)["slides"])
+    assert pages == n, f"{name}: the handout has {pages} pages for {n} slides"
+
+
+# --- the build itself, on a small deck made here ------------------------------------------------
+
+PNG_1x1 = ("iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAABJ"
+           "RU5ErkJggg==")
+
+
+def _meta(cell, slide_type, **extra):
+    cell.metadata["slideshow"] = {"slide_type": slide_type}
+    cell.metadata.update(extra)
+    return cell
+
+
+@pytest.fixture(scope="module")
+def small_deck(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("deck")
+    long_line = "    result = some_function(first_argument, second_argument, third_argument, fourth)"
+    nb = new_notebook(cells=[
+        _meta(new_markdown_cell("## A figure\n\nEuler: $e^{i\\pi} + 1 = 0$"), "slide"),
+        _meta(new_markdown_cell("Say that $\\cos\\theta$ is the *x* part."), "notes"),
+        _meta(new_code_cell("draw()", metadata={"tags": ["hide-input"],
+                                                "mystnb": {"image": {"alt": "A red dot on a circle"}}},
+                            outputs=[new_output("display_data", data={"image/png": PNG_1x1})]), "-"),
+        _meta(new_markdown_cell("## Code\n\nA long line wraps under its own indentation."), "slide"),
+        _meta(new_code_cell(f"def f():\n{long_line}\n    return result"), "-"),
+        _meta(new_markdown_cell("### Exercise\n\nWrite `g`."), "subslide"),
+        _meta(new_code_cell("def g():\n    ANSWER_STUB_LINE = 1", metadata={"tags": ["answer"]}), "-"),
+        _meta(new_code_cell("check_g_exercise_call(g)", metadata={"tags": ["check"]}), "-"),
+        _meta(new_code_cell("def g():\n    WORKED_SOLUTION_LINE = 2",
+                            metadata={"tags": ["solution"], "jupyter": {"source_hidden": True}}), "-"),
+        _meta(new_code_cell("assert HIDDEN_TEST_LINE", metadata={"tags": ["hidden-test"]}), "-"),
+    ])
+    path = tmp / "99_small.ipynb"
+    nbformat.write(nb, str(path))
+    (deck,) = _build(slides.build, tmp / "slides", [path])
+    (solved,) = _build(slides.build, tmp / "slides-solutions", [path], solutions=True)
+    return deck, solved
+
+
+def test_exercise_cells_left_out_and_solutions_deck(small_deck):
+    deck, solved = (p.read_text() for p in small_deck)
+    for line in ("ANSWER_STUB_LINE", "check_g_exercise_call", "WORKED_SOLUTION_LINE", "HIDDEN_TEST_LINE"):
+        assert line not in deck, f"{line} is in the default deck"
+    assert "WORKED_SOLUTION_LINE" in solved
+    for line in ("ANSWER_STUB_LINE", "HIDDEN_TEST_LINE"):
+        assert line not in solved, f"{line} is in the solutions deck"
+    assert slides.OUT_SOLUTIONS != slides.OUT
+
+
+def test_alt_text_hanging_indent_and_speaker_view(browser, small_deck):
+    d = slides.OfflineDeck(browser, small_deck[0])
+    try:
+        page = d.ready()
+        assert page.locator("img.course-figure").get_attribute("alt") == "A red dot on a circle"
+        # the long line wraps, and its second screen line starts 4 characters right of the
+        # line's own indentation (4 spaces): at 8 characters
+        slides.goto(page, 1, 0)
+        rows = page.evaluate("""() => {
+          const l = [...Reveal.getCurrentSlide().querySelectorAll('pre .cl')][1];
+          const r = document.createRange(); r.selectNodeContents(l);
+          const boxes = [...r.getClientRects()].filter(b => b.width > 0);
+          const tops = [...new Set(boxes.map(b => Math.round(b.top)))].sort((a, b) => a - b);
+          const starts = tops.map(t => Math.min(...boxes.filter(b => Math.round(b.top) === t).map(b => b.left)));
+          const s = document.createElement('span'); s.textContent = 'x'.repeat(10); l.appendChild(s);
+          const ch = s.getBoundingClientRect().width / 10; s.remove();
+          return {rows: tops.length, starts: starts.map(x => (x - l.getBoundingClientRect().left) / ch)}; }""")
+        assert rows["rows"] >= 2, "the long code line did not wrap"
+        assert all(abs(x - 8) < 0.6 for x in rows["starts"][1:]), \
+            f"wrapped code continues at {rows['starts'][1:]} characters, not at indentation + 4 = 8"
+        slides.goto(page, 0, 0)
+        with d.context.expect_page() as popup:
+            page.keyboard.press("s")
+        speaker = popup.value
+        speaker.wait_for_function("(document.querySelector('.speaker-controls-notes .value') || {}).textContent"
+                                  " && document.querySelector('.speaker-controls-notes .value').textContent.includes('part')")
+        assert speaker.locator(".speaker-controls-notes .value mjx-container svg").count() == 1
+        plain = speaker.evaluate("""() => [...document.querySelectorAll('.speaker-controls-notes mjx-assistive-mml')]
+          .filter(m => { const cs = getComputedStyle(m);
+                         return !(cs.position === 'absolute' && cs.clip.startsWith('rect')); }).length""")
+        assert plain == 0, "the speaker view shows the formula a second time, as text"
+        assert not d.blocked and not d.errors, d.blocked + d.errors
+    finally:
+        d.close()
+
+
+def test_hang_code_keeps_pygments_spans_per_line():
+    html = ('<div class="highlight hl-ipython3"><pre><span></span><span class="k">def</span> f():\n'
+            '    <span class="s2">"""two\nlines"""</span>\n</pre></div>')
+    out = slides.hang_code(html)
+    assert out.count('class="cl"') == 3
+    assert '--ind:4ch' in out and '--ind:0ch' in out
+    # a string token across a newline is closed and reopened on the next line
+    assert out.count('<span class="s2">') == 2

@@ -35,9 +35,21 @@ def _by_hand(omega, tau, terms):
 
 
 def test_partial_sum_right_answers_pass():
-    for func in (_by_hand, so3lib.exp_series):
-        fb = check_partial_sum(func)
-        assert fb and repr(fb).startswith("Correct: partial_sum"), repr(fb)
+    fb = check_partial_sum(_by_hand)
+    assert fb and repr(fb).startswith("Correct: partial_sum"), repr(fb)
+
+
+def _wraps_exp_series(omega, tau, terms):
+    return so3lib.exp_series(omega, tau, terms)
+
+
+@pytest.mark.parametrize("student, pattern", [
+    (so3lib.exp_series, "so3lib's own exp_series"),
+    (_wraps_exp_series, "calls exp_series"),
+    (lambda w, t, n: (lambda: so3lib.exp_series(w, t, n))(), "calls exp_series"),
+])
+def test_partial_sum_notices_the_forbidden_exp_series(student, pattern):
+    _says(check_partial_sum(student), "partial_sum", pattern)
 
 
 def _elementwise(omega, tau, terms):
@@ -110,9 +122,18 @@ def test_B_right_answers_pass():
     def taylor_then_closed(t):
         return 0.5 - t * t / 24 if abs(t) < 1e-4 else (1 - math.cos(t)) / t ** 2 \
             if abs(t) > 0.5 else 2 * (math.sin(t / 2) / t) ** 2
-    for func in (half_angle, taylor_then_closed, so3lib.B):
+    for func in (half_angle, taylor_then_closed):
         fb = check_B(func)
         assert fb and repr(fb).startswith("Correct: B_stable"), repr(fb)
+
+
+@pytest.mark.parametrize("student, pattern", [
+    (so3lib.B, "so3lib's own B"),
+    (lambda t: so3lib.B(t), "calls B"),
+    (lambda t: float(so3lib.B(t)) + 0.0, "calls B"),
+])
+def test_B_notices_the_forbidden_library_B(student, pattern):
+    _says(check_B(student), "B_stable", pattern)
 
 
 def _naive(t):

@@ -45,6 +45,30 @@ def _close(got, alt, atol=1e-9, rtol=1e-9):
         return False
 
 
+def _global_names(func):
+    """Every global or attribute name the code of ``func`` refers to, nested functions
+    included (empty for an object without Python code)."""
+    names, stack = set(), [getattr(func, "__code__", None)]
+    while stack:
+        code = stack.pop()
+        if code is None:
+            continue
+        names.update(code.co_names)
+        stack.extend(c for c in code.co_consts if hasattr(c, "co_names"))
+    return names
+
+
+def _forbidden(func, reference, name, what):
+    """A "Not yet" Feedback when ``func`` is, or calls, the library function the exercise
+    asks the learner not to use (``what``, e.g. ``"exp_series"``); else None."""
+    if func is reference:
+        return _fail(name, f"That is so3lib's own {what}; the exercise asks you to write it.")
+    if what in _global_names(func):
+        return _fail(name, f"Your function calls {what}, which the exercise asks you not to "
+                           "use: write the computation yourself.")
+    return None
+
+
 # ---------------------------------------------------------------- exercise 2.1
 
 _SUM_INPUTS = [
@@ -86,9 +110,14 @@ def check_partial_sum(func):
     .. math:: S_N = \sum_{m=0}^{N-1} \frac{(\tau\hat\omega)^m}{m!}
 
     A wrong sum gets the size of its difference and, where it matches one, the usual
-    mistake; never the right matrix.
+    mistake; never the right matrix. A function that is, or calls, ``exp_series`` (which
+    the exercise rules out) is turned down.
     """
     name = "partial_sum"
+    if callable(func):
+        fb = _forbidden(func, exp_series, name, "exp_series")
+        if fb is not None:
+            return fb
     for omega, tau, terms in _SUM_INPUTS:
         shown = f"partial_sum({np.array2string(omega, separator=', ')}, {tau:g}, {terms})"
         got, fb = _call(func, name, (omega, tau, terms), shown, _SUM_HINT)
@@ -218,9 +247,14 @@ def check_B(func):
     Compares with the library's ``so3lib.B`` at ``t`` from 1 down to 1e-8, then ``t = 0``
     (where ``B = 1/2``), the middle range 0.01 to 0.45 (where a Taylor polynomial kept
     too long fails), ``1e-300`` and ``t = 30``. A wrong value gets its relative error and
-    the usual mistake it matches.
+    the usual mistake it matches. A function that is, or calls, ``so3lib.B`` (which the
+    exercise rules out) is turned down.
     """
     name = "B_stable"
+    if callable(func):
+        fb = _forbidden(func, B, name, "B")
+        if fb is not None:
+            return fb
     for t in _B_INPUTS:
         shown = f"B_stable({t:g})"
         got, fb = _call(func, name, (t,), shown, _B_HINT)

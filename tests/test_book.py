@@ -1,67 +1,193 @@
-"""The course book (tools/book.py): every link resolves, and it reads offline in a browser.
+"""The course book (tools/book.py, Jupyter Book 1) and its PDF.
 
-The book is built once per session into build/book/ (incrementally: pages whose inputs
-did not change are kept). Its links are checked in every page; the index is opened in
-Chromium from file:// with every network request blocked, its math must be typeset and
-its "next" link must lead to a page whose math is typeset too.
+The book is built once per session into build/book/ (Sphinx rebuilds only changed pages);
+the PDF once into build/course.pdf (reprinted only when the book changed). The build's
+own checks read the HTML: a page per notebook, no speaker notes or grading asserts,
+solutions and figure code collapsed, alt text carried over, launch buttons and download,
+every local link and every loaded file present. Then Chromium, with every request outside
+file:// blocked, opens every page once at a laptop size and once at a phone size: maths
+typeset, code boxes that scroll rather than cut, no serious or critical axe-core finding
+(light and dark), and on a phone the text first; the search finds "Rodrigues"; a plain
+static server serves the book without a request elsewhere.
 """
 
-import html
+import functools
+import http.server
 import os
 import re
+import shutil
+import subprocess
+import threading
 from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
 import pytest
+from bs4 import BeautifulSoup
 
-from browser_support import MATHJAX_ERRORS, MATHJAX_IDLE, ROOT, Offline, screenshot
-from tools import book
-from tools.common import course_notebooks
+from browser_support import MATHJAX_ERRORS, ROOT, Offline, require_chromium, screenshot
+from tools import book, vendor
+from tools.common import course_notebooks, read
+
+LAPTOP = {"width": 1366, "height": 768}
+PHONE = {"width": 390, "height": 844}
+MATHJAX_READY = "window.MathJax && MathJax.startup && MathJax.startup.promise"
+
+
+def _skip_or_fail(why):
+    if os.environ.get("CI"):
+        pytest.fail(why)
+    pytest.skip(why)
 
 
 @pytest.fixture(scope="session")
 def pages():
+    """The built book: index.html, then one page per notebook in course order."""
     try:
         return book.build(ROOT / "build" / "book")
     except SystemExit as e:  # npm missing or the registry unreachable
-        if os.environ.get("CI"):
-            pytest.fail(str(e))
-        pytest.skip(str(e))
+        _skip_or_fail(str(e))
 
 
-# nbconvert writes every attribute in double quotes, so regular expressions read the pages
-# exactly (and twenty times faster than an HTML parser).
-ANCHOR = re.compile(r'<[a-zA-Z][^>]*?\s(?:id|name)="([^"]*)"')
-HREF = re.compile(r'<a\s[^>]*?href="([^"]*)"')
-LOADS = re.compile(r'<(?:script|link|img)\s[^>]*?(?:src|href)="([^"]*)"')
+@pytest.fixture(scope="session")
+def soups(pages):
+    return {p.name: BeautifulSoup(p.read_text(encoding="utf-8"), "html.parser") for p in pages}
 
 
-def _ids(path, cache={}):
-    if path not in cache:
-        cache[path] = {html.unescape(m) for m in ANCHOR.findall(path.read_text(encoding="utf-8"))}
-    return cache[path]
+def _words(element):
+    """The words (3 letters or more) of an element's text, formulas left out."""
+    copy = BeautifulSoup(str(element), "html.parser")
+    for math in copy.select(".math"):
+        math.decompose()
+    return " ".join(re.findall(r"[A-Za-z]{3,}", copy.get_text(" ")))
+
+
+def _fingerprint(source, n=8):
+    """The first N words of a cell (3 letters or more), as they read in the rendered page."""
+    return " ".join(re.findall(r"[A-Za-z]{3,}", re.sub(r"\$[^$]*\$|<[^>]*>", " ", source))[:n])
+
+
+# ---------------------------------------------------------------------------------------
+# The learner's copy (no build needed)
+
+
+def test_learner_copy_drops_notes_and_hidden_tests_and_brackets_solutions():
+    from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
+    cells = [new_markdown_cell("# T"),
+             new_markdown_cell("say this", metadata={"slideshow": {"slide_type": "notes"}}),
+             new_code_cell("stub()", metadata={"tags": ["answer"]}),
+             new_markdown_cell("**Solution.**", metadata={"tags": ["solution"]}),
+             new_code_cell("def f(): pass", metadata={"tags": ["solution"]}),
+             new_code_cell("assert f() is None", metadata={"tags": ["hidden-test"]}),
+             new_markdown_cell("after")]
+    out = book.learner_copy(new_notebook(cells=cells))
+    sources = [c.source for c in out.cells]
+    assert sources == ["# T", "stub()", book.SOLUTION_BEGIN, "**Solution.**", "def f(): pass",
+                       book.SOLUTION_END, "after"]
+    assert len({c.id for c in out.cells}) == len(out.cells)
+
+
+def test_links_to_raw_anchors_and_jupyterlab_headings_are_rewritten():
+    src = ('### <a id="N15"></a>N15. Inverses\n'
+           "see [N15](A1_errata.ipynb#N15) and [9](03_x.ipynb#9.-What-%22SU(2)%22-says)")
+    out = book.fix_links(src, anchors={"N15"}, slugs={"03_x.ipynb": {'9.-What-"SU(2)"-says': "what-su-2-says"}})
+    assert out.startswith("(N15)=\n### N15. Inverses")
+    assert "[N15](#n15)" in out and "[9](03_x.ipynb#what-su-2-says)" in out
+
+
+# ---------------------------------------------------------------------------------------
+# The built pages
 
 
 def test_book_has_a_page_per_notebook(pages):
-    names = [p.name for p in pages]
-    assert names[0] == "index.html"
-    assert names[1:] == [f"{p.stem}.html" for p in course_notebooks()]
+    assert pages[0].name == "index.html"
+    assert [p.name for p in pages[1:]] == [f"{p.stem}.html" for p in course_notebooks()]
+    assert all(p.is_file() for p in pages)
 
 
-def test_every_link_in_the_book_resolves(pages):
+def test_no_speaker_notes_or_hidden_tests(pages, soups):
+    leaked = []
+    for nb_path in course_notebooks():
+        text = _words(soups[f"{nb_path.stem}.html"].select_one("article"))
+        for i, cell in enumerate(read(nb_path).cells):
+            if book.is_speaker_note(cell) or book.is_hidden_test(cell):
+                probe = _fingerprint(cell.source)
+                if len(probe.split()) >= 5 and probe in text:
+                    leaked.append(f"{nb_path.name} cell {i}: {probe!r}")
+    assert not leaked, "\n".join(leaked)
+
+
+def test_solutions_are_collapsed_and_figure_code_folded(pages, soups):
+    problems = []
+    for nb_path in course_notebooks():
+        soup = soups[f"{nb_path.stem}.html"]
+        nb = read(nb_path)
+        for i, cell in enumerate(nb.cells):
+            if book.is_solution(cell) and not book.is_hidden_test(cell):
+                probe = _fingerprint(cell.source, 6)
+                if len(probe.split()) < 4:
+                    continue
+                inside = any(probe in _words(d) for d in soup.select("details.course-solution"))
+                if not inside:
+                    problems.append(f"{nb_path.name} cell {i}: solution not in a 'Show solution' block")
+        for d in soup.select("details.course-solution"):
+            if d.has_attr("open") or d.summary.get_text(strip=True) != "Show solution":
+                problems.append(f"{nb_path.name}: a solution block is open or mislabelled")
+        for cell in soup.select("div.cell.tag_solution"):
+            if not cell.find_parent("details", class_="course-solution"):
+                problems.append(f"{nb_path.name}: solution code outside its block")
+        for cell in soup.select("div.cell.tag_hide-input"):
+            folded = cell.select_one("details.hide.above-input")
+            if folded is None or folded.has_attr("open"):
+                problems.append(f"{nb_path.name}: hide-input cell with its code open")
+        if soup.select("div.course-solution-begin, div.course-solution-end"):
+            problems.append(f"{nb_path.name}: a solution marker was left in the page")
+    assert not problems, "\n".join(problems)
+
+
+def test_figures_carry_their_alt_text(pages, soups):
+    missing = []
+    for nb_path in course_notebooks():
+        alts = {img.get("alt", "") for img in soups[f"{nb_path.stem}.html"].select("article img")}
+        for i, cell in enumerate(read(nb_path).cells):
+            alt = cell.metadata.get("mystnb", {}).get("image", {}).get("alt")
+            if alt and alt not in alts:
+                missing.append(f"{nb_path.name} cell {i}")
+    assert not missing, "alt text in the notebook but not in the book: " + ", ".join(missing)
+
+
+def test_launch_buttons_and_download(pages, soups):
+    for nb_path in course_notebooks():
+        soup = soups[f"{nb_path.stem}.html"]
+        hrefs = [a.get("href", "") for a in soup.select("a")]
+        binder = [h for h in hrefs if h.startswith(book.BINDERHUB_URL)]
+        hub = [h for h in hrefs if h.startswith(book.JUPYTERHUB_URL)]
+        assert binder and f"notebooks/{nb_path.name}" in unquote(binder[0]), binder
+        assert hub and "git-pull" in hub[0] and "repo=" in hub[0], hub
+        repo = book.REPOSITORY_URL.rstrip("/")
+        assert repo.split("github.com/")[1] in binder[0] and repo in unquote(hub[0])
+        download = f"_sources/{nb_path.name}"
+        assert download in hrefs, f"{nb_path.name}: no download link"
+        assert (pages[0].parent / download).read_bytes() == nb_path.read_bytes()
+
+
+def test_every_link_in_the_book_resolves(pages, soups):
+    out = pages[0].parent
+    ids = {name: {t["id"] for t in soup.select("[id]")} for name, soup in soups.items()}
     broken = []
     for page in pages:
-        text = page.read_text(encoding="utf-8")
-        for href in map(html.unescape, HREF.findall(text)):
-            url = urlsplit(href)
+        soup = soups[page.name]
+        for a in soup.select("a[href]"):
+            url = urlsplit(a["href"])
             if url.scheme in ("http", "https", "mailto"):
-                continue  # references to the web: they work when there is a network
+                continue  # the web: launch buttons, the repository, references
             target = (page.parent / unquote(url.path)).resolve() if url.path else page
             if url.scheme or not target.is_file():
-                broken.append(f"{page.name}: {href} (no such file)")
-            elif url.fragment and not {url.fragment, unquote(url.fragment)} & _ids(target):
-                broken.append(f"{page.name}: {href} (no such anchor in {target.name})")
-        for src in map(html.unescape, LOADS.findall(text)):
+                broken.append(f"{page.name}: {a['href']} (no such file)")
+            elif url.fragment and target.suffix == ".html" and target.parent == out.resolve():
+                if not {url.fragment, unquote(url.fragment)} & ids.get(target.name, set()):
+                    broken.append(f"{page.name}: {a['href']} (no such anchor)")
+        for tag in soup.select("script[src], link[href], img[src]"):
+            src = tag.get("src") or tag.get("href")
             url = urlsplit(src)
             if url.scheme in ("http", "https") or src.startswith("//"):
                 broken.append(f"{page.name}: loads {src} from the network")
@@ -70,22 +196,196 @@ def test_every_link_in_the_book_resolves(pages):
     assert not broken, "\n".join(broken)
 
 
+# ---------------------------------------------------------------------------------------
+# In Chromium, offline
+
+
+# Every code box and display formula that is wider than its visible box must scroll
+# (overflow-x auto or scroll on itself or a box around it); collapsed blocks are skipped.
+CUT_OFF = """() => {
+  const cut = [];
+  const sel = 'article pre, article mjx-container[display="true"], article div.math';
+  for (const el of document.querySelectorAll(sel)) {
+    if (el.closest('details:not([open])') || el.getClientRects().length === 0) continue;
+    let box = el, ok = false;
+    for (; box && box !== document.body; box = box.parentElement) {
+      const s = getComputedStyle(box);
+      if (box.scrollWidth <= box.clientWidth + 1) continue;
+      ok = ['auto', 'scroll'].includes(s.overflowX);
+      break;
+    }
+    const r = el.getBoundingClientRect();
+    if (!ok && (el.scrollWidth > el.clientWidth + 1 || r.right > innerWidth + 1))
+      cut.push(el.tagName.toLowerCase() + ': ' + (el.textContent || '').trim().slice(0, 60));
+  }
+  return cut;
+}"""
+
+# At a phone width, the first thing on the screen is the page's text, not the contents.
+TEXT_FIRST = """() => {
+  const h = document.querySelector('article h1');
+  const nav = document.querySelector('#pst-primary-sidebar');
+  const navShown = nav && nav.getBoundingClientRect().width > 0
+                   && nav.getBoundingClientRect().left >= 0 && getComputedStyle(nav).visibility !== 'hidden';
+  return {headingTop: h ? h.getBoundingClientRect().top : null, navShown};
+}"""
+
+
+class _Offline(Offline):
+    """browser_support.Offline at a chosen window size and colour scheme."""
+
+    def __init__(self, browser, viewport=LAPTOP, color_scheme="light",
+                 allowed=("file:", "data:", "about:", "blob:")):
+        self.allowed = tuple(allowed)
+        self.blocked, self.failed, self.errors = [], [], []
+        self.context = browser.new_context(viewport=viewport, color_scheme=color_scheme)
+        self.context.route("**/*", self._route)
+        self.context.on("page", self.watch)
+
+
+def _axe_path():
+    return vendor.install(ROOT / "build" / "book-test", ["axe-core"]) / "axe-core" / "axe.min.js"
+
+
+def _axe(page, axe):
+    page.add_script_tag(path=str(axe))
+    result = page.evaluate("axe.run(document, {resultTypes: ['violations'], preload: false})")
+    return [f"{v['impact']} {v['id']}: {v['help']} ({len(v['nodes'])}x, e.g. {v['nodes'][0]['target']})"
+            for v in result["violations"] if v["impact"] in ("serious", "critical")]
+
+
+def _open(page, path):
+    page.goto(path.as_uri())
+    page.wait_for_function(MATHJAX_READY)
+    page.evaluate("MathJax.startup.promise")
+
+
+@pytest.fixture(scope="session")
+def visits(browser, pages):
+    """Every page opened once at a laptop size and once at a phone size (light, then dark
+    for axe), with every request outside file:// blocked: what each check needs."""
+    axe = _axe_path()
+    found = {}
+    for size_name, size in (("laptop", LAPTOP), ("phone", PHONE)):
+        for scheme in ("light", "dark"):
+            if size_name == "phone" and scheme == "dark":
+                continue
+            offline = _Offline(browser, viewport=size, color_scheme=scheme)
+            page = offline.new_page()
+            page.set_default_timeout(60_000)
+            for path in pages:
+                _open(page, path)
+                seen = found.setdefault(path.name, {})
+                key = f"{size_name}-{scheme}"
+                seen[key] = {
+                    "typeset": page.locator("mjx-container").count(),
+                    "errors": page.locator(MATHJAX_ERRORS).count(),
+                    "cut": page.evaluate(CUT_OFF),
+                    "layout": page.evaluate(TEXT_FIRST),
+                    "axe": _axe(page, axe) if size_name == "laptop" else [],
+                }
+                if path in (pages[0], pages[2]) and scheme == "light":
+                    screenshot(page, f"book_{path.stem}_{size_name}")
+            found.setdefault("_problems", []).append(offline.problems())
+            offline.close()
+    return found
+
+
 @pytest.mark.browser
-def test_book_reads_offline(browser, pages):
+def test_every_page_reads_offline_with_its_maths_typeset(visits, pages):
+    assert not any(visits["_problems"]), "\n".join(visits["_problems"])
+    for path in pages:
+        seen = visits[path.name]["laptop-light"]
+        assert seen["typeset"] > 0, f"{path.name}: no formula typeset"
+        assert seen["errors"] == 0, f"{path.name}: {seen['errors']} formulas failed to typeset"
+
+
+@pytest.mark.browser
+def test_no_code_box_or_formula_is_cut_off(visits, pages):
+    cut = [f"{path.name} at {key}: {c}" for path in pages
+           for key, seen in visits[path.name].items() for c in seen["cut"]]
+    assert not cut, "\n".join(cut)
+
+
+@pytest.mark.browser
+def test_axe_finds_nothing_serious(visits, pages):
+    found = [f"{path.name} ({key}): {v}" for path in pages
+             for key, seen in visits[path.name].items() for v in seen["axe"]]
+    assert not found, "\n".join(found)
+
+
+@pytest.mark.browser
+def test_on_a_phone_the_text_comes_first(visits, pages):
+    for path in pages:
+        layout = visits[path.name]["phone-light"]["layout"]
+        assert not layout["navShown"], f"{path.name}: the contents cover the text on a phone"
+        assert layout["headingTop"] is not None and layout["headingTop"] < PHONE["height"] / 3, \
+            f"{path.name}: the title starts {layout['headingTop']} px down"
+
+
+@pytest.mark.browser
+def test_search_finds_rodrigues_offline(browser, pages):
     offline = Offline(browser)
     page = offline.new_page()
-    page.set_default_timeout(20_000)
-    page.goto(pages[0].as_uri())
-    page.wait_for_function(MATHJAX_IDLE)
-    assert page.locator(".MathJax_CHTML").count() > 0, "the index's formula was not typeset"
-    titles = page.locator(".course-contents > li > strong > a")
-    assert titles.count() == len(pages) - 1, "the index lists every notebook in order"
-    screenshot(page, "book_index")
-    page.locator(".course-nav.top a[rel=next]").click()
-    page.wait_for_url("**/" + pages[1].name)
-    page.wait_for_function(MATHJAX_IDLE)
-    assert page.locator(".MathJax_CHTML").count() > 0
-    assert page.locator(MATHJAX_ERRORS).count() == 0
-    screenshot(page, "book_" + Path(pages[1]).stem)
+    page.set_default_timeout(60_000)
+    page.goto((pages[0].parent / "search.html").as_uri() + "?q=Rodrigues")
+    page.wait_for_function("document.querySelectorAll('#search-results ul.search li').length > 0")
+    hits = page.locator("#search-results ul.search li").count()
+    screenshot(page, "book_search")
+    assert hits >= 3, f"only {hits} hits for Rodrigues"
     assert not offline.problems(), offline.problems()
     offline.close()
+
+
+@pytest.mark.browser
+def test_a_plain_static_server_serves_it_with_no_other_request(browser, pages):
+    class Quiet(http.server.SimpleHTTPRequestHandler):
+        def log_message(self, *args):
+            pass
+
+    handler = functools.partial(Quiet, directory=str(pages[0].parent))
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    origin = f"http://127.0.0.1:{server.server_address[1]}/"
+    offline = Offline(browser, allowed=(origin, "data:", "about:", "blob:"))
+    try:
+        page = offline.new_page()
+        page.set_default_timeout(60_000)
+        for path in (pages[0], pages[2]):
+            page.goto(origin + path.name)
+            page.wait_for_function(MATHJAX_READY)
+            page.evaluate("MathJax.startup.promise")
+            assert page.locator("mjx-container").count() > 0
+        page.goto(origin + "search.html?q=Rodrigues")
+        page.wait_for_function("document.querySelectorAll('#search-results ul.search li').length > 0")
+        assert not offline.problems(), offline.problems()
+    finally:
+        offline.close()
+        server.shutdown()
+
+
+# ---------------------------------------------------------------------------------------
+# The PDF
+
+
+@pytest.fixture(scope="session")
+def pdf(pages):
+    require_chromium()
+    if not shutil.which("pdftotext"):
+        _skip_or_fail("pdftotext (poppler-utils) is needed to read the PDF")
+    return book.build_pdf()
+
+
+@pytest.mark.browser
+def test_the_pdf_holds_the_whole_course(pdf):
+    assert pdf.is_file() and pdf.stat().st_size > 100_000
+    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    assert "Rodrigues" in text
+    assert "Contents" in text
+    for nb_path in course_notebooks():
+        title = book.label(read(nb_path), nb_path)
+        assert re.sub(r"\W+", "", title)[:20] in re.sub(r"\W+", "", text), f"{title} not in the PDF"
+    assert "code cell source" not in text, "a figure's folded code printed as a stray line"
+    assert "\\frac" not in text and "\\begin{" not in text, "maths printed as TeX source"
+    assert text.count("\f") > 50, "fewer pages than the course has"

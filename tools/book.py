@@ -299,6 +299,7 @@ def book_config(repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL, pl
                 "html_css_files": ["course.css"],
                 "html_js_files": js_files,
                 "html_sourcelink_suffix": "",
+                "html_show_search_summary": False,  # summaries fetch each page: not from file://
                 "html_last_updated_fmt": None,
                 "myst_heading_anchors": 3,
                 "nb_render_markdown_format": "myst",
@@ -348,6 +349,9 @@ def prepare(src=SOURCE, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB
     static.mkdir(parents=True, exist_ok=True)
     _write_if_changed(static / "course.css", (STATIC / "course.css").read_bytes())
     vendor.install(static / "vendor", ["mathjax3"])
+    svg = static / "vendor" / "mathjax3" / "es5" / "tex-svg-full.js"  # the decks' renderer
+    if svg.exists():
+        svg.unlink()
     if plotly:
         _write_if_changed(static / "vendor" / "plotly.min.js", plotly.read_bytes())
     if (NOTEBOOKS / "images").is_dir():
@@ -427,6 +431,14 @@ def postprocess(out):
         for button in soup.select("button.search-button__button[aria-label]"):
             del button["aria-label"]
             changed = True
+        # Live code (thebe) is off, yet sphinx-thebe declares its CDN URL twice per page, a
+        # script error: its pieces go (the launch buttons run the notebooks instead).
+        for tag in soup.select("script, link[href*=sphinx-thebe]"):
+            if ("sphinx-thebe" in (tag.get("src") or tag.get("href") or "")
+                    or tag.get("type") == "text/x-thebe-config"
+                    or (tag.name == "script" and "THEBE_JS_URL" in (tag.string or ""))):
+                tag.decompose()
+                changed = True
         # myst-nb's collapsed input: its summary's text ("Show code cell source") is its name.
         for summary in soup.select("summary[aria-label]"):
             del summary["aria-label"]
@@ -452,6 +464,163 @@ def build(out=OUT, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL)
     return [Path(out) / "index.html"] + [Path(out) / f"{p.stem}.html" for p in paths]
 
 
+# ---------------------------------------------------------------------------------------
+# The whole course as one PDF, printed by Chromium from the one-page build of the book
+
+CHROMIUM_ARGS = ["--no-sandbox", "--disable-background-networking", "--disable-component-update",
+                 "--disable-sync", "--disable-quic", "--no-first-run", "--disable-dev-shm-usage"]
+
+# Runs in the one-page book before printing: each notebook starts a new page, solutions
+# are open, and a contents list of every notebook and section (with page numbers once known).
+PRINT_PREPARE = r"""(pages) => {
+  document.querySelectorAll('details.course-solution').forEach(d => { d.open = true; });
+  let nav = document.getElementById('course-print-toc');
+  if (!nav) {
+    const starts = [...document.querySelectorAll('span[id^="document-"]')]
+      .filter(s => s.nextElementSibling && s.nextElementSibling.tagName === 'SECTION');
+    starts.forEach(s => s.nextElementSibling.classList.add('course-chapter'));
+    nav = document.createElement('nav');
+    nav.id = 'course-print-toc';
+    nav.setAttribute('aria-label', 'Contents');
+    const first = starts.length ? starts[0] : document.querySelector('.bd-article section');
+    first.parentNode.insertBefore(nav, first);
+  }
+  const chapters = [...document.querySelectorAll('section.course-chapter')];
+  const entries = [];
+  for (const c of chapters) {
+    const title = c.querySelector(':scope > h1, :scope > h2');
+    if (!title) continue;
+    entries.push({level: 1, id: c.id, text: title.textContent.replace('#', '').trim()});
+    for (const s of c.querySelectorAll(':scope > section')) {
+      const h = s.querySelector(':scope > h2, :scope > h3');
+      if (h) entries.push({level: 2, id: s.id, text: h.textContent.replace('#', '').trim()});
+    }
+  }
+  let html = '<h2>Contents</h2><ol class="course-print-toc">';
+  entries.forEach((e, i) => {
+    const page = pages && pages[i] ? pages[i] : '';
+    html += `<li class="toc-l${e.level}"><a href="#${e.id}"><span class="t"></span></a>` +
+            `<span class="p">${page}</span></li>`;
+  });
+  nav.innerHTML = html + '</ol>';
+  nav.querySelectorAll('span.t').forEach((t, i) => { t.textContent = entries[i].text; });
+  return entries.map(e => e.text);
+}"""
+
+PRINT_CSS = """
+@page { size: A4; margin: 16mm 14mm 18mm 14mm; }
+.course-chapter { break-before: page; }
+#course-print-toc { break-before: page; }
+#course-print-toc ol { list-style: none; padding: 0; }
+#course-print-toc li { display: flex; gap: 0.5em; margin: 0.15em 0; }
+#course-print-toc li a { flex: 1; text-decoration: none; color: inherit; }
+#course-print-toc li.toc-l1 { font-weight: 600; margin-top: 0.6em; }
+#course-print-toc li.toc-l2 { padding-left: 1.5em; font-size: 0.92em; }
+#course-print-toc .p { min-width: 2.5em; text-align: right; }
+.bd-article img { max-width: 100% !important; height: auto; break-inside: avoid; }
+.cell_output img { break-inside: avoid; }
+#jb-print-docs-body #print-main-content { display: none !important; }  /* ours is below */
+/* a figure's code that is not the point stays out of print, as it stays folded on screen */
+details.hide.above-input { display: none !important; }
+"""
+
+
+def chromium_executable():
+    for c in (os.environ.get("CHROMIUM"), "/usr/bin/chromium", shutil.which("chromium"),
+              shutil.which("chromium-browser"), shutil.which("google-chrome")):
+        if c and os.path.isfile(c) and os.access(c, os.X_OK):
+            return c
+    raise SystemExit("the PDF is printed by Chromium: `apt-get install chromium`, or set "
+                     "CHROMIUM=/path/to/chrome")
+
+
+def _heading_pages(pdf, titles):
+    """Page (1-based) on which each title first appears after the contents list, in order,
+    from pdftotext's text. The list ends on the first page that shows the last title."""
+    import subprocess
+    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    # letters and digits only: line breaks fall anywhere and maths comes out scrambled
+    squash = lambda t: re.sub(r"[^A-Za-z0-9]+", "", t)  # noqa: E731
+    pages = [squash(p) for p in text.split("\f")]
+    last = squash(titles[-1])[:30] if titles else ""
+    at = next((n + 1 for n, p in enumerate(pages) if last and last in p), 0)
+    found = []
+    for title in titles:
+        for key in (squash(title)[:30], squash(title)[:12]):
+            n = next((n for n in range(at, len(pages)) if len(key) > 3 and key in pages[n]), None)
+            if n is not None:
+                found.append(str(n + 1))
+                at = n
+                break
+        else:
+            found.append("")
+    return found
+
+
+def _log(what, _t0=[]):
+    import time
+    _t0.append(time.time())
+    if os.environ.get("BOOK_VERBOSE"):
+        print(f"{what}: {_t0[-1] - _t0[0]:.1f} s", file=sys.stderr)
+
+
+def print_pdf(site=PRINT_OUT, pdf=PDF):
+    """Print SITE/index.html (the one-page book) to PDF with Chromium, no network. Skipped
+    when the page and this script are unchanged since the PDF was printed."""
+    import hashlib
+    from playwright.sync_api import sync_playwright
+    pdf = Path(pdf)
+    stamp = pdf.with_name(pdf.name + ".stamp")
+    key = hashlib.sha256(b"\0".join([(Path(site) / "index.html").read_bytes(),
+                                       Path(__file__).read_bytes()])).hexdigest()
+    if pdf.exists() and stamp.exists() and stamp.read_text() == key:
+        return pdf
+    footer = ('<div style="font-size:8px;width:100%;text-align:center;color:#444">'
+              '<span class="pageNumber"></span> / <span class="totalPages"></span></div>')
+    header = (f'<div style="font-size:8px;width:100%;text-align:center;color:#444">'
+              f'{BOOK_TITLE}</div>')
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=chromium_executable(), args=CHROMIUM_ARGS)
+        try:
+            context = browser.new_context(viewport={"width": 1000, "height": 1400})
+            context.route("**/*", lambda r: r.continue_() if r.request.url.startswith(
+                ("file:", "data:", "about:", "blob:")) else r.abort())
+            page = context.new_page()
+            page.set_default_timeout(120_000)
+            page.goto((Path(site) / "index.html").as_uri())
+            page.wait_for_function("window.MathJax && MathJax.startup && MathJax.startup.promise")
+            page.evaluate("MathJax.startup.promise")
+            _log("typeset")
+            page.add_style_tag(content=PRINT_CSS)
+            page.emulate_media(media="print")
+            titles = page.evaluate(PRINT_PREPARE, None)
+            options = dict(format="A4", print_background=True, outline=True, tagged=True,
+                           display_header_footer=True, header_template=header,
+                           footer_template=footer,
+                           margin={"top": "16mm", "bottom": "16mm", "left": "14mm", "right": "14mm"})
+            tmp = Path(pdf).with_suffix(".tmp.pdf")
+            page.pdf(path=str(tmp), **options)
+            _log("first print")
+            # second pass: the contents list gets the page numbers the first pass found
+            numbers = _heading_pages(tmp, titles)
+            page.evaluate(PRINT_PREPARE, numbers)
+            page.pdf(path=str(tmp), **options)
+            os.replace(tmp, pdf)
+            stamp.write_text(key)
+        finally:
+            browser.close()
+    return pdf
+
+
+def build_pdf(pdf=PDF, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
+    """The whole course as one PDF: the book built as one page, printed by Chromium."""
+    prepare(SOURCE, repository_url, jupyterhub_url)
+    sphinx(SOURCE, PRINT_OUT, "singlehtml")
+    postprocess(PRINT_OUT)
+    return print_pdf(PRINT_OUT, pdf)
+
+
 def report_missing_alt():
     lines = []
     for p in course_notebooks():
@@ -473,8 +642,7 @@ def main(argv=None):
         print("warning:", line, file=sys.stderr)
     print(f"open {pages[0]}")
     if args.pdf:
-        from tools import book_pdf
-        print(book_pdf.build())
+        print(build_pdf(PDF, args.repository_url, args.jupyterhub_url))
 
 
 if __name__ == "__main__":

@@ -216,11 +216,12 @@ def _index(idx):
 
 
 # Rodrigues' formula as one matrix product. With 2u = 2 t n (h = theta/2, t = tan(h),
-# n the unit axis), each of the nine entries of (1 + t^2) R is the sum of two of the 13
-# numbers F = (1 - t^2, 2u_x, 2u_y, 2u_z, (2u_x)(2u_x), (2u_x)(2u_y), ..., (2u_z)(2u_z)):
-# the diagonal 1 - t^2 + (2u_i)^2 / 2, the rest (2u_i)(2u_j) / 2 -+ 2u_k, as hat(2u)
-# places 2u_k. Row k of _COMBINE holds the coefficients (0, +-1 or 1/2) of F_k in the
-# nine entries, row by row; R_ij and R_ji take the same product (i <= j).
+# n the unit axis) and d = 1 + t^2, each of the nine entries of R is the sum of two of
+# the 13 numbers F = ((1 - t^2)/d, 2u_x/d, 2u_y/d, 2u_z/d, (2u_x/d)(2u_x), ...,
+# (2u_z/d)(2u_z)): the diagonal (1 - t^2)/d + (2u_i/d)(2u_i)/2, the rest
+# (2u_i/d)(2u_j)/2 -+ 2u_k/d, as hat(2u) places 2u_k. Row k of _COMBINE holds the
+# coefficients (0, +-1 or 1/2) of F_k in the nine entries, row by row; R_ij and R_ji
+# take the same product (i <= j).
 _COMBINE = np.zeros((13, 9))
 _COMBINE[0, ::4] = 1.0                          # 1 - t^2 on the diagonal
 for _i in range(3):
@@ -241,12 +242,13 @@ def _from_tangent(k, p, t, out):
     get the same bits.
     """
     F = np.empty((13, len(t)))
-    np.multiply(k, p, out=F[1:4])                               # 2u
-    np.multiply(F[1:4, None, :], F[1:4], out=F[4:].reshape(3, 3, -1))   # (2u_i)(2u_j)
+    two_u = k * p
     tt = t * t
     np.subtract(1.0, tt, out=F[0])
-    tt += 1.0
-    F /= tt                                     # everything over 1 + t^2
+    tt += 1.0                                   # 1 + t^2
+    F[0] /= tt
+    np.divide(two_u, tt, out=F[1:4])
+    np.multiply(F[1:4, None, :], two_u, out=F[4:].reshape(3, 3, -1))   # 2u_i 2u_j / (1 + t^2)
     np.matmul(F.T, _COMBINE, out=out)
 
 
@@ -286,8 +288,8 @@ def _exp_one(x, y, z):
     u = (k * x, k * y, k * z)                   # 2u
     den = t * t + 1.0
     c = (1.0 - t * t) / den
-    ux, uy, uz = (ui / den for ui in u)
-    uu = [[u[i] * u[j] / den * 0.5 for j in range(3)] for i in range(3)]
+    ux, uy, uz = a = [ui / den for ui in u]
+    uu = [[a[i] * u[j] * 0.5 for j in range(3)] for i in range(3)]
     entries = (c + uu[0][0], uu[0][1] - uz, uu[0][2] + uy,
                uu[0][1] + uz, c + uu[1][1], uu[1][2] - ux,
                uu[0][2] - uy, uu[1][2] + ux, c + uu[2][2])

@@ -373,9 +373,9 @@ def _first_failure(R, tol):
     rows = R.reshape(-1, dim * dim)
     for i in range(0, len(rows), _BLOCK):
         orth, det = _block_defects(rows[i:i + _BLOCK], dim)
-        bad = ~((orth <= tol) & (np.abs(det - 1.0) <= tol))   # NaN counts as failing
-        if bad.any():
-            k = int(np.argmax(bad))
+        worst = np.maximum(orth, np.abs(det - 1.0))            # NaN stays NaN
+        if not worst.max() <= tol:                              # NaN counts as failing
+            k = int(np.argmax(~(worst <= tol)))
             o = float(orth[k])
             return i + k, (math.inf if math.isnan(o) else o), float(det[k])
     return None

@@ -296,6 +296,7 @@ def test_exercise_cells_left_out_and_solutions_deck(small_deck):
     for line in ("ANSWER_STUB_LINE", "check_g_exercise_call", "WORKED_SOLUTION_LINE", "HIDDEN_TEST_LINE"):
         assert line not in deck, f"{line} is in the default deck"
     assert "WORKED_SOLUTION_LINE" in solved
+    assert "with worked solutions" in solved and "with worked solutions" not in deck
     for line in ("ANSWER_STUB_LINE", "HIDDEN_TEST_LINE"):
         assert line not in solved, f"{line} is in the solutions deck"
     assert slides.OUT_SOLUTIONS != slides.OUT

@@ -153,9 +153,18 @@ NOTES_STYLE = ("<style>mjx-assistive-mml{position:absolute!important;top:0;left:
                "text-align:center;margin:0.5em 0}mjx-container{position:relative}</style>")
 
 
-def finish(page):
+# The solutions deck says so on every slide, so that it is never projected by mistake
+# before the coursework is due.
+SOLUTIONS_MARK = ('<div class="course-solutions-mark" style="position:fixed;top:6px;left:10px;'
+                  'z-index:40;font:bold 16px sans-serif;color:#b00020">with worked solutions</div>')
+
+
+def finish(page, solutions=False):
     page = hang_code(page)
     page = page.replace('<aside class="notes">', '<aside class="notes">' + NOTES_STYLE)
+    if solutions:
+        page = page.replace('<div class="reveal">', SOLUTIONS_MARK + '<div class="reveal">', 1)
+        page = page.replace(" slides</title>", " slides, with worked solutions</title>", 1)
     return relink(page, ".slides.html")
 
 
@@ -177,7 +186,7 @@ def build(out=OUT, notebooks=None, solutions=False):
         key = stamps.key(tooling, path.read_bytes())
         if not stamps.fresh(target.name, key):  # unchanged since the last build: keep it
             body, _ = exp.from_notebook_node(read(path), resources={"metadata": {"name": path.stem}})
-            write_atomic(target, finish(body))
+            write_atomic(target, finish(body, solutions))
             stamps.record(target.name, key)
         written.append(target)
     if notebooks is None:  # a notebook renamed or removed: its deck goes too

@@ -23,6 +23,7 @@ import os
 import platform
 import statistics
 import sys
+import time
 import timeit
 import tracemalloc
 from pathlib import Path
@@ -100,7 +101,9 @@ def interleaved_ratios(sizes, pairs, budget):
 
     A pair times so3lib and scipy back to back over the same number of calls (about
     ``budget`` seconds of scipy), alternating which goes first, so that a change in the
-    machine's speed between pairs (other work, frequency) cancels in the ratio.
+    machine's speed between pairs (other work, frequency) cancels in the ratio. Times are
+    the CPU time of this process (``time.process_time``, every thread counted), so that
+    other jobs on a shared machine do not count as so3lib's or scipy's time.
     """
     rng = np.random.default_rng(0)
     rows = {}
@@ -110,12 +113,14 @@ def interleaved_ratios(sizes, pairs, budget):
         for mine, theirs in zip(*[iter(calls(phi, R))] * 2):
             mine(), theirs()                                  # warm up
             number = max(1, int(budget / max(timeit.Timer(theirs).timeit(1), 1e-7)))
+            number = max(number, 20 if n < 1_000 else 1)        # process_time ticks
             times = {mine: [], theirs: []}
             ratios = []
             for k in range(pairs if n < 1_000_000 else max(3, pairs // 3)):
                 order = (mine, theirs) if k % 2 == 0 else (theirs, mine)
                 for func in order:
-                    times[func].append(timeit.Timer(func).timeit(number) / number)
+                    timer = timeit.Timer(func, timer=time.process_time)
+                    times[func].append(timer.timeit(number) / number)
                 ratios.append(times[mine][-1] / times[theirs][-1])
             row += [statistics.median(times[mine]), statistics.median(times[theirs]),
                     statistics.median(ratios)]
@@ -245,7 +250,7 @@ def main(argv=None):
     print(f"machine: {title}")
     pairs = 11 if args.quick else 21
     print(f"\nGoal: so3lib / scipy at most 1 at every N, exp and validated log; median of "
-          f"{pairs} interleaved pairs (times: medians per call)\n")
+          f"{pairs} interleaved pairs (times: medians per call, CPU time of the process)\n")
     print_ratio_table(interleaved_ratios(RATIO_SIZES, pairs, budget / 10))
     if args.ratios_only:
         return 0

@@ -17,6 +17,7 @@ NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sani
 .PHONY: assignments grade
 .PHONY: lint lint-lib
 .PHONY: slides-solutions handouts
+.PHONY: pdf
 
 help:
 	@echo "make lab      open the course in JupyterLab (sets up .venv the first time)"
@@ -27,7 +28,8 @@ help:
 	@echo "make slides   a reveal.js deck per notebook in build/slides/ (presents offline)"
 	@echo "make handouts a PDF of each deck, one page per slide, in build/handouts/"
 	@echo "make slides-solutions  the decks with the worked solutions, build/slides-solutions/"
-	@echo "make book     the course as a web site, build/book/index.html (reads offline)"
+	@echo "make book     the course as a Jupyter Book, build/book/index.html (reads offline)"
+	@echo "make pdf      the whole course as one PDF, build/course.pdf"
 	@echo "make student  the notebooks without worked solutions, in build/student/"
 	@echo "make assignments  nbgrader coursework from the notebooks, in build/coursework/"
 	@echo "make grade SUBMITTED=DIR  autograde DIR/STUDENT/ASSIGNMENT/*.ipynb: build/grades.csv, feedback"
@@ -90,8 +92,18 @@ slides-solutions: $(STAMP)
 handouts: $(STAMP)
 	$(BIN)/python -m tools.slides --handouts
 
+# The repository the book's launch buttons (Binder, JupyterHub) and GitHub link point at,
+# and the JupyterHub: `make book BOOK_REPOSITORY=https://github.com/ORG/REPO
+# BOOK_JUPYTERHUB=https://hub.example.edu`; placeholders otherwise (tools/book.py, README).
+BOOK_ARGS = $(if $(BOOK_REPOSITORY),--repository-url $(BOOK_REPOSITORY)) \
+            $(if $(BOOK_JUPYTERHUB),--jupyterhub-url $(BOOK_JUPYTERHUB))
+
 book: $(STAMP)
-	$(BIN)/python -m tools.book
+	$(BIN)/python -m tools.book $(BOOK_ARGS)
+
+# The whole course as one PDF, build/course.pdf, printed from the book by Chromium.
+pdf: $(STAMP)
+	$(BIN)/python -m tools.book --pdf $(BOOK_ARGS)
 
 student: $(STAMP)
 	$(BIN)/python -m tools.student

@@ -18,7 +18,6 @@ import re
 import shutil
 import subprocess
 import threading
-from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
 import pytest

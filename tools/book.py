@@ -558,13 +558,6 @@ def _heading_pages(pdf, titles):
     return found
 
 
-def _log(what, _t0=[]):
-    import time
-    _t0.append(time.time())
-    if os.environ.get("BOOK_VERBOSE"):
-        print(f"{what}: {_t0[-1] - _t0[0]:.1f} s", file=sys.stderr)
-
-
 def print_pdf(site=PRINT_OUT, pdf=PDF):
     """Print SITE/index.html (the one-page book) to PDF with Chromium, no network. Skipped
     when the page and this script are unchanged since the PDF was printed."""
@@ -591,7 +584,6 @@ def print_pdf(site=PRINT_OUT, pdf=PDF):
             page.goto((Path(site) / "index.html").as_uri())
             page.wait_for_function("window.MathJax && MathJax.startup && MathJax.startup.promise")
             page.evaluate("MathJax.startup.promise")
-            _log("typeset")
             page.add_style_tag(content=PRINT_CSS)
             page.emulate_media(media="print")
             titles = page.evaluate(PRINT_PREPARE, None)
@@ -601,7 +593,6 @@ def print_pdf(site=PRINT_OUT, pdf=PDF):
                            margin={"top": "16mm", "bottom": "16mm", "left": "14mm", "right": "14mm"})
             tmp = Path(pdf).with_suffix(".tmp.pdf")
             page.pdf(path=str(tmp), **options)
-            _log("first print")
             # second pass: the contents list gets the page numbers the first pass found
             numbers = _heading_pages(tmp, titles)
             page.evaluate(PRINT_PREPARE, numbers)

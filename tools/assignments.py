@@ -76,6 +76,8 @@ class HideTestTracebacks(Preprocessor):
     """In the feedback, an error in a test cell shows its last line only: a traceback
     quotes the hidden test's source line, which stays with the instructor."""
 
+    enabled = True          # nbconvert's preprocessors are off unless enabled
+
     def preprocess_cell(self, cell, resources, index):
         if cell.cell_type == "code" and cell.metadata.get("nbgrader", {{}}).get("grade"):
             for out in cell.get("outputs", []):
@@ -358,9 +360,10 @@ def build(out=COURSE, notebooks=None, release=True, log=print):
         made[path.stem] = found
         log(f"source/{path.stem}/{path.name}: {len(found)} exercises, "
             f"{sum(ex.points for ex in found)} points")
-    if release:
+    if release and made:
+        # one nbgrader run for all of them (the assignment name is a glob): it starts once
+        nbgrader(out, "generate_assignment", "*", "--force", "--log-level=WARN")
         for assignment in made:
-            nbgrader(out, "generate_assignment", assignment, "--force", "--log-level=WARN")
             log(f"release/{assignment}/")
     return made
 

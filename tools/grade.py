@@ -135,6 +135,9 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
     jobs, problems = _stage(submitted, course, known, log)
     students = sorted({s for s, _ in jobs} | {s for s, _ in problems})
 
+    for student, assignment in set(jobs) | set(problems):
+        for stale in ("autograded", "feedback"):     # an earlier run's results for them
+            shutil.rmtree(course / stale / student / assignment, ignore_errors=True)
     with _gradebook(course) as gb:
         for student in students:
             gb.update_or_create_student(student)
@@ -165,13 +168,13 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
                     pass
     jobs = [job for job in jobs if job not in failed_jobs]
 
-    for assignment in sorted({a for _, a in jobs}):
-        run = nbgrader(course, "generate_feedback", assignment, "--force", "--log-level=ERROR", check=False)
-        if run.returncode != 0:             # one student's page must not cost the others theirs
-            for student, a in jobs:
-                if a == assignment:
-                    nbgrader(course, "generate_feedback", assignment, f"--student={student}",
-                             "--force", "--log-level=ERROR", check=False)
+    run = nbgrader(course, "generate_feedback", "*", "--force", "--log-level=ERROR", check=False) \
+        if jobs else None
+    if run is not None and run.returncode != 0:
+        # one student's page must not cost the others theirs: again, one by one
+        for student, assignment in jobs:
+            nbgrader(course, "generate_feedback", assignment, f"--student={student}",
+                     "--force", "--log-level=ERROR", check=False)
     for (student, assignment), why in problems.items():
         _problem_page(course, student, assignment, why)
 

@@ -34,7 +34,7 @@ def test_so2_log_right_answer_passes():
     (3, "Expected a function"),
     (lambda R: np.array([1.0, 2.0]), r"has shape \(2,\); expected shape \(\)"),
     (lambda R: np.nan, "NaN or inf"),
-    (lambda R: np.arccos(R[0, 0]), r"cannot tell \+theta from -theta"),
+    (lambda R: np.arccos(R[0, 0]), r"cannot tell \+alpha from -alpha"),
     (lambda R: np.arctan(R[1, 0] / R[0, 0]), "second quadrant from the\\s+fourth"),
     (lambda R: np.degrees(np.arctan2(R[1, 0], R[0, 0])), "degrees"),
     (lambda R: "angle", "not a number"),

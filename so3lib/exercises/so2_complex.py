@@ -44,8 +44,8 @@ ACCEL = 2.0
 T_END = 1.5
 
 
-def _angle_matrix(theta):
-    return so2.exp(float(theta))
+def _angle_matrix(alpha):
+    return so2.exp(float(alpha))
 
 
 def _fmt(a):
@@ -78,7 +78,7 @@ def _so2_log_hint(func):
     got_neg = _try_call(func, _angle_matrix(-0.7))
     if got_neg is not None and got_neg.shape == () and np.isclose(got_neg, 0.7):
         return ("For so2.exp(-0.7) you returned +0.7: the cosine R[0, 0] alone cannot tell "
-                "+theta from -theta (arccos always returns a value in [0, pi]). Use the "
+                "+alpha from -alpha (arccos always returns a value in [0, pi]). Use the "
                 "sine R[1, 0] as well.")
     got_q2 = _try_call(func, _angle_matrix(2.5))
     if got_q2 is not None and got_q2.shape == () and np.isclose(got_q2, 2.5 - np.pi):
@@ -88,13 +88,13 @@ def _so2_log_hint(func):
     got_deg = _try_call(func, _angle_matrix(0.5))
     if got_deg is not None and got_deg.shape == () and np.isclose(got_deg, np.degrees(0.5)):
         return "The answer looks like degrees; the course works in radians."
-    return ("R = [[cos t, -sin t], [sin t, cos t]]: the first column holds (cos t, sin t). "
+    return ("R = [[cos a, -sin a], [sin a, cos a]]: the first column holds (cos a, sin a). "
             "Which NumPy function turns a (sine, cosine) pair into an angle in (-pi, pi]?")
 
 
 @never_raises("so2_log")
 def check_so2_log(func):
-    r"""Exercise 3.1: ``func(R)`` must return the angle :math:`\theta \in (-\pi, \pi]` of a
+    r"""Exercise 3.1: ``func(R)`` must return the signed angle :math:`\alpha \in (-\pi, \pi]` of a
     planar rotation ``R`` (notebook 03, equation (3.12)).
 
     Tests the defining property on so2.exp(t) for t = 0.5, -0.7, 2.5, -2.5 and 4.0: the
@@ -129,16 +129,16 @@ def check_so2_log(func):
                                    f"{a.shape}; expected shape () (one angle).")
         if not np.isfinite(a):
             return Feedback(False, f"Not yet: {name}. On {label} the answer is NaN or inf.")
-        theta = float(a)
-        same = abs(np.cos(theta) - R[0, 0]) <= 1e-10 and abs(np.sin(theta) - R[1, 0]) <= 1e-10
-        if same and -np.pi < theta <= np.pi:
+        alpha = float(a)
+        same = abs(np.cos(alpha) - R[0, 0]) <= 1e-10 and abs(np.sin(alpha) - R[1, 0]) <= 1e-10
+        if same and -np.pi < alpha <= np.pi:
             continue
         if same:
-            return Feedback(False, f"Not yet: {name}. On {label} it returned {theta:.6g}: "
+            return Feedback(False, f"Not yet: {name}. On {label} it returned {alpha:.6g}: "
                                    "the right rotation, but outside (-pi, pi].\nHint: the "
                                    "principal angle is the one in (-pi, pi]; np.arctan2 "
                                    "returns it directly.")
-        return Feedback(False, f"Not yet: {name}. On {label} it returned {theta:.6g}, whose "
+        return Feedback(False, f"Not yet: {name}. On {label} it returned {alpha:.6g}, whose "
                                "cosine and sine are not R's first column.\nHint: "
                                + _so2_log_hint(func))
     return Feedback(True, f"Correct: {name}. Its angles lie in (-pi, pi] and give R back "

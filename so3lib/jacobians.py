@@ -23,8 +23,10 @@ as notebook 02 sums the exponential) gives, with :math:`\theta = \lVert\varphi\r
 
 ``B`` is the coefficient of Rodrigues' formula (:func:`so3lib.B`); ``C`` and ``D`` are
 here. The singular values of :math:`J_r(\varphi)` are 1 (along the axis) and
-:math:`\lvert\sin(\theta/2)/(\theta/2)\rvert` twice (spec S22), so :math:`J_r` is
-singular exactly at :math:`\theta = 2\pi, 4\pi, \dots`, where :math:`D` has its poles.
+:math:`\lvert\sin(\theta/2)/(\theta/2)\rvert` twice: across the axis :math:`J_r` turns by
+:math:`-\theta/2` about it and scales by :math:`\sin(\theta/2)/(\theta/2)` (notebook 06,
+section 5). So :math:`J_r` is singular exactly at :math:`\theta = 2\pi, 4\pi, \dots`,
+where :math:`D` has its poles.
 
 Notation
 --------
@@ -136,7 +138,7 @@ def C(t):
 
     Notes
     -----
-    As written, ``t - sin t`` cancels: at ``t = 1e-5`` it keeps 6 digits, below
+    As written, ``t - sin t`` cancels: at ``t = 1e-5`` ``C`` keeps 5 digits, below
     ``t = 1e-8`` none. Below ``|t| = 2`` its Taylor series (13 terms, exact to rounding);
     above, the closed form, which loses at most a factor 2 there. Within a few eps
     relative of a 50-digit reference at every ``t`` (notebook 06, "Numerics").
@@ -269,7 +271,7 @@ def right_jacobian(phi):
               + \frac{\theta - \sin\theta}{\theta^3}\,\hat\varphi^2,
               \qquad \theta = \lVert\varphi\rVert
 
-    (spec S22; Sola et al., appendix B). Its singular values are 1 and
+    (Sola et al., appendix B; notebook 06). Its singular values are 1 and
     :math:`\lvert\sin(\theta/2)/(\theta/2)\rvert` (twice).
 
     Parameters

@@ -139,7 +139,7 @@ def check_right_jacobian(func):
                             + "\nHint: J_r = I - (1 - cos t)/t^2 hat(phi) + "
                               "(t - sin t)/t^3 hat(phi)^2 with t = |phi|.")
     return _ok(name, f"exp(phi) exp(J delta) matches exp(phi + delta) to first order on "
-                     f"{len(_PHIS_61)} rotation vectors, from 2e-3 rad to 5 rad.")
+                     f"{len(_PHIS_61)} rotation vectors, from 2.4e-3 rad to 5 rad.")
 
 
 # --- 6.2 a C without cancellation ----------------------------------------------------

@@ -333,6 +333,23 @@ def _block_defects(rows, dim):
     return orth, det
 
 
+def _defects_one(r):
+    """``orth`` and ``det`` of one 3x3 matrix (nine floats, row by row), in plain floats:
+    the steps of :func:`_block_defects`, operation for operation, for the same verdict."""
+    C = (r[0:3], r[3:6], r[6:9])
+    gram = [[(C[0][i] * C[0][j] + C[1][i] * C[1][j]) + C[2][i] * C[2][j] for j in range(3)]
+            for i in range(3)]
+    for i in range(3):
+        gram[i][i] -= 1.0
+    entries = [abs(g) for row in gram for g in row]
+    orth = math.nan if any(map(math.isnan, entries)) else max(entries)
+    r1, r2 = C[1], C[2]
+    cross = [r1[(i + 1) % 3] * r2[(i + 2) % 3] - r1[(i + 2) % 3] * r2[(i + 1) % 3]
+             for i in range(3)]
+    det = (C[0][0] * cross[0] + C[0][1] * cross[1]) + C[0][2] * cross[2]
+    return (math.inf if math.isnan(orth) else orth), det
+
+
 # (a x b)_i = a_{i+1} b_{i+2} - a_{i+2} b_{i+1}, indices modulo 3.
 _NEXT = np.array([1, 2, 0])
 _AFTER = np.array([2, 0, 1])
@@ -371,6 +388,11 @@ def _first_failure(R, tol):
     within ``tol``, or None. Block by block, stopping at the first failing block."""
     dim = R.shape[-1]
     rows = R.reshape(-1, dim * dim)
+    if len(rows) == 1 and dim == 3:             # one matrix: plain floats are quicker
+        orth, det = _defects_one(rows[0].tolist())
+        if orth <= tol and abs(det - 1.0) <= tol:           # NaN counts as failing
+            return None
+        return 0, orth, det
     for i in range(0, len(rows), _BLOCK):
         orth, det = _block_defects(rows[i:i + _BLOCK], dim)
         worst = np.maximum(orth, np.abs(det - 1.0))            # NaN stays NaN

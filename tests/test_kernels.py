@@ -152,3 +152,15 @@ def test_exp_never_returns_negative_zero():
                     [0.0, 0.0, -np.pi], [-3.0, 0.0, -0.0]])
     for R in (so3lib.exp(phi), *map(so3lib.exp, phi), so3lib.exp(phi, -1.0)):
         assert not (np.signbit(R) & (R == 0)).any()
+
+
+def test_rotation_check_of_one_matrix_equals_its_batch(rng):
+    """One matrix is checked in plain floats, a batch on arrays: the same defects, bit
+    for bit, so log(R) and is_rotation (arrays) agree on every matrix, also near tol."""
+    from so3lib.validation import _defects_one, rotation_defects
+    R = so3lib.random_rotation(rng, 200) + 1e-7 * rng.standard_normal((200, 3, 3))
+    R[:5] *= 1 + 1e-6 * np.arange(5)[:, None, None]
+    R[7] = -R[7]
+    orth, det = rotation_defects(R)
+    for k in range(len(R)):
+        assert _defects_one(R[k].ravel().tolist()) == (orth[k], det[k]), k

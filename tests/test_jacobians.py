@@ -197,7 +197,7 @@ def test_jacobian_times_inverse_is_identity(theta, axis):
 
 @given(angles, axes)
 def test_singular_values_are_one_and_sinc_half(theta, axis):
-    """Spec S22: 1 along the axis, |sin(theta/2)/(theta/2)| twice across it."""
+    """(6.10) of notebook 06: 1 along the axis, |sin(theta/2)/(theta/2)| twice across it."""
     phi = _phi(theta, axis)
     half = theta / 2
     small = abs(math.sin(half) / half) if theta > 0 else 1.0

@@ -80,7 +80,7 @@ def _fail_list(name, what, lines):
 @pytest.mark.parametrize("name", NAMES)
 def test_slide_count(measured, name):
     n = len(measured(name)["slides"])
-    low = 1 if name.startswith("00") else slides.SLIDES_MIN
+    low = slides.min_slides(name)
     assert low <= n <= slides.SLIDES_MAX, \
         f"{name}: {n} slides; a 50-minute lecture is {low} to {slides.SLIDES_MAX} (mark detail 'skip')"
 

@@ -55,7 +55,7 @@ WIDTH, HEIGHT = 1280, 720  # the slide's design size: one CSS pixel is one pixel
 
 # The shape of a lecture deck (issue 10; README "Adding a notebook"). The tests hold every
 # deck to these; --report prints them next to each slide's figures.
-SLIDES_MIN, SLIDES_MAX = 20, 35          # slides per deck (00_start_here may be shorter)
+SLIDES_MIN, SLIDES_MAX = 20, 35          # slides per lecture deck (see min_slides)
 WORDS_MAX, WORDS_MEDIAN = 60, 40         # words of prose on a slide; median over the deck
 CODE_LINES_MAX = 12                      # source lines of code on a slide
 PROSE_PX, CODE_PX = 28, 24               # smallest font on screen at 1280x720
@@ -406,11 +406,17 @@ def slide_faults(m, deck_name=""):
     return faults
 
 
+def min_slides(name):
+    """The fewest slides a deck may have: the opening (00) and the appendices (A1, ...)
+    are short references rather than 50-minute lectures, so they may be shorter."""
+    return 1 if name.startswith(("00", "A")) else SLIDES_MIN
+
+
 def deck_faults(name, slides):
     """What is wrong with the deck as a whole."""
     faults = []
     n = len(slides)
-    low = 1 if name.startswith("00") else SLIDES_MIN
+    low = min_slides(name)
     if not low <= n <= SLIDES_MAX:
         faults.append(f"{n} slides, not {low}..{SLIDES_MAX}")
     med = statistics.median(m["words"] for m in slides) if slides else 0

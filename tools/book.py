@@ -519,6 +519,10 @@ PRINT_CSS = """
 #course-print-toc .p { min-width: 2.5em; text-align: right; }
 .bd-article img { max-width: 100% !important; height: auto; break-inside: avoid; }
 .cell_output img { break-inside: avoid; }
+/* a code box or an output stays on one page when it fits; a heading stays with its text */
+.bd-article div.highlight, .bd-article .cell_output .output, .bd-article div.math,
+.bd-article table { break-inside: avoid; }
+.bd-article h1, .bd-article h2, .bd-article h3, .bd-article h4 { break-after: avoid; }
 #jb-print-docs-body #print-main-content { display: none !important; }  /* ours is below */
 /* a figure's code that is not the point stays out of print, as it stays folded on screen */
 details.hide.above-input { display: none !important; }

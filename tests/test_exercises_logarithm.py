@@ -209,3 +209,14 @@ def test_log_at_pi_watch_leaves_no_profiler_behind():
     check_log_at_pi(_by_log)
     check_log_at_pi(lambda n: 1 / 0)
     assert sys.getprofile() is None
+
+
+def test_log_at_pi_watches_the_public_names_only():
+    # The watch keys on the code of so3lib.log and so3lib.angle themselves, so a
+    # rewrite of the library's private helpers cannot blind it.
+    import so3lib
+    from so3lib.exercises import logarithm as ex
+
+    assert set(ex._LOG_CODES) == {so3lib.log.__code__, so3lib.angle.__code__}
+    _says(check_log_at_pi(lambda n: so3lib.log(2 * np.outer(n, n) - np.eye(3))),
+          "It calls log, a logarithm")

@@ -42,6 +42,12 @@ def graded_notebooks():
     return real if len(real) == 2 else [FIXTURE]
 
 
+def released_notebooks():
+    """Every course notebook with exercises (release/ is checked for leaks in all of them)."""
+    from tools.common import course_notebooks
+    return sorted(set(graded_notebooks()) | {p for p in course_notebooks() if tagged(p)})
+
+
 # --- made-up submissions --------------------------------------------------------------
 
 def _bound_names(source):
@@ -127,10 +133,13 @@ def plan(found):
 def coursework(tmp_path_factory):
     root = tmp_path_factory.mktemp("coursework")
     course = root / "course"
-    made = assignments.build(course, graded_notebooks(), log=lambda *a: None)
+    made = assignments.build(course, released_notebooks(), log=lambda *a: None)
     submitted = root / "submitted"
     expected = {}
+    graded = {p.stem for p in graded_notebooks()}
     for name, found in made.items():
+        if name not in graded:
+            continue
         released = read(course / "release" / name / f"{name}.ipynb")
         for student, cases in plan(found).items():
             folder = submitted / student / name
@@ -148,7 +157,8 @@ def coursework(tmp_path_factory):
         rows = list(csv.DictReader(fh))
     with open(root / "grades_by_exercise.csv", newline="") as fh:
         cells = list(csv.DictReader(fh))
-    return {"course": course, "made": made, "rows": rows, "cells": cells, "expected": expected,
+    return {"course": course, "made": {k: v for k, v in made.items() if k in graded},
+            "released": made, "rows": rows, "cells": cells, "expected": expected,
             "submitted": submitted}
 
 
@@ -162,7 +172,8 @@ def test_grades_csv_has_every_score(coursework):
     rows, expected, made = coursework["rows"], coursework["expected"], coursework["made"]
     got = {(r["student_id"], r["assignment"]): r for r in rows}
     students = {s for s, _ in expected}
-    assert len(rows) == len(got) == len(students) * len(made), "one row per student and assignment"
+    assert len(rows) == len(got) == len(students) * len(coursework["released"]), \
+        "one row per student and assignment"
     for key, row in got.items():
         if key not in expected:                 # fewer exercises, fewer made-up students
             assert float(row["score"]) == 0 and row["problem"] == "no submission", row
@@ -242,12 +253,13 @@ def _secrets(nb):
 
 def test_release_holds_no_solution_hidden_test_or_speaker_note(coursework):
     course = coursework["course"]
-    for path in graded_notebooks():
+    assert sorted(coursework["released"]) == [p.stem for p in released_notebooks()]
+    for path in released_notebooks():
         released = (course / "release" / path.stem / path.name).read_text()
         nb = read(course / "release" / path.stem / path.name)
         secrets = _secrets(read(path))
-        text = "\n".join(c.source for c in nb.cells)
-        left = sorted(s for s in secrets if s in text)
+        shown = {ln for c in nb.cells for ln in _lines(c.source)}
+        left = sorted(secrets & shown)
         assert not left, f"{path.name}: release shows {left[:5]}"
         assert "BEGIN SOLUTION" not in released and "HIDDEN TESTS" not in released
         assert not any(c.get("outputs") for c in nb.cells), "outputs could show an answer"
@@ -260,7 +272,7 @@ def test_release_holds_no_solution_hidden_test_or_speaker_note(coursework):
 
 def test_release_keeps_the_notebooks_own_stub(coursework):
     course = coursework["course"]
-    for name, found in coursework["made"].items():
+    for name, found in coursework["released"].items():
         nb = read(course / "release" / name / f"{name}.ipynb")
         answers = {c.metadata["nbgrader"]["grade_id"]: c for c in nb.cells
                    if c.metadata.get("nbgrader", {}).get("solution")}

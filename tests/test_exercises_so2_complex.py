@@ -21,9 +21,22 @@ from so3lib.exercises.so2_complex import (
 
 # ----------------------------------------------------------------------- exercise 3.1
 
+def _so2_log_right(R):
+    a = np.arctan2(R[1, 0], R[0, 0])
+    return np.pi if a == -np.pi else a      # -0.0 on the cut: atan2 gives -pi
+
+
 def test_so2_log_right_answer_passes():
-    fb = check_so2_log(lambda R: np.arctan2(R[1, 0], R[0, 0]))
+    fb = check_so2_log(_so2_log_right)
     assert fb and repr(fb).startswith("Correct: so2_log")
+    assert "-np.eye(2) included" in repr(fb)
+
+
+def test_so2_log_plain_arctan2_is_caught_on_minus_zero():
+    # np.arctan2(-0.0, -1.0) is -pi: outside (-pi, pi]; the message names -0.0
+    assert np.arctan2(-np.eye(2)[1, 0], -1.0) == -np.pi
+    _says(check_so2_log(lambda R: np.arctan2(R[1, 0], R[0, 0])),
+          r"On -np.eye\(2\) it returned -3.14159, outside \(-pi, pi\]: .*-0.0")
 
 
 @pytest.mark.parametrize("student, says", [

@@ -60,8 +60,10 @@ def _not_answered(fb):
 
 # Simplest first: the message names the first input on which an answer goes wrong.
 # -0.7 catches arccos (no sign), 2.5 and -2.5 catch arctan(R21 / R11) (wrong quadrant),
-# 4.0 needs wrapping into (-pi, pi].
+# 4.0 needs wrapping into (-pi, pi]. Last, the half-turn -np.eye(2): its R21 is the float
+# -0.0, on which np.arctan2 returns -pi, outside (-pi, pi] (notebook 03, section 7).
 _LOG_ANGLES = (0.5, -0.7, 2.5, -2.5, 4.0)
+_HALF_TURN = "-np.eye(2)"
 
 
 def _try_call(func, *args):
@@ -97,17 +99,18 @@ def check_so2_log(func):
     r"""Exercise 3.1: ``func(R)`` must return the signed angle :math:`\alpha \in (-\pi, \pi]` of a
     planar rotation ``R`` (notebook 03, equation (3.12)).
 
-    Tests the defining property on so2.exp(t) for t = 0.5, -0.7, 2.5, -2.5 and 4.0: the
-    result lies in :math:`(-\pi, \pi]` and its cosine and sine are ``R[0, 0]`` and
-    ``R[1, 0]``. Names the usual slips: arccos of ``R[0, 0]`` (loses the sign), arctan of
-    the ratio (loses the quadrant), degrees.
+    Tests the defining property on so2.exp(t) for t = 0.5, -0.7, 2.5, -2.5 and 4.0, and on
+    the half-turn ``-np.eye(2)`` (whose ``R[1, 0]`` is ``-0.0``): the result lies in
+    :math:`(-\pi, \pi]` and its cosine and sine are ``R[0, 0]`` and ``R[1, 0]``. Names the
+    usual slips: arccos of ``R[0, 0]`` (loses the sign), arctan of the ratio (loses the
+    quadrant), degrees, and plain ``np.arctan2`` on ``-0.0`` (returns :math:`-\pi`).
     """
     name = "so2_log"
     if func is None or func is Ellipsis or not callable(func):
         return check_function(func, None, [], name)
-    for t in _LOG_ANGLES:
-        R = _angle_matrix(t)
-        label = f"so2.exp({t:g})"
+    for t in (*_LOG_ANGLES, _HALF_TURN):
+        R = -np.eye(2) if t == _HALF_TURN else _angle_matrix(t)
+        label = _HALF_TURN if t == _HALF_TURN else f"so2.exp({t:g})"
         try:
             got = func(R.copy())
         except NotImplementedError:
@@ -133,6 +136,11 @@ def check_so2_log(func):
         same = abs(np.cos(alpha) - R[0, 0]) <= 1e-10 and abs(np.sin(alpha) - R[1, 0]) <= 1e-10
         if same and -np.pi < alpha <= np.pi:
             continue
+        if same and t == _HALF_TURN:
+            return Feedback(False, f"Not yet: {name}. On {label} it returned {alpha:.6g}, "
+                                   "outside (-pi, pi]: this half-turn's R[1, 0] is the float "
+                                   "-0.0, and np.arctan2(-0.0, -1.0) returns -pi.\nHint: "
+                                   "return +pi in that one case (np.where, or an if).")
         if same:
             return Feedback(False, f"Not yet: {name}. On {label} it returned {alpha:.6g}: "
                                    "the right rotation, but outside (-pi, pi].\nHint: the "
@@ -142,7 +150,8 @@ def check_so2_log(func):
                                "cosine and sine are not R's first column.\nHint: "
                                + _so2_log_hint(func))
     return Feedback(True, f"Correct: {name}. Its angles lie in (-pi, pi] and give R back "
-                          f"on {len(_LOG_ANGLES)} rotations.")
+                          f"on {len(_LOG_ANGLES) + 1} rotations, the half-turn -np.eye(2) "
+                          "included.")
 
 
 def _integrate_rate(T, steps=1000):

@@ -3,17 +3,19 @@ ones get a message that names the mistake, no message gives the answer away, the
 holds no answer, and nothing raises."""
 
 import inspect
+import math
 import re
 
+import mpmath
 import numpy as np
 import pytest
 
 from so3lib import exp, hat, log
 from so3lib.exercises import Feedback, applications
 from so3lib.exercises.applications import (
-    check_euler_stretch,
     check_keyframes,
     check_rotation_mean,
+    check_steps_needed,
     check_velocity_jump,
 )
 
@@ -33,10 +35,11 @@ def _assert_not_yet(fb, name, says):
     assert re.search(says, text), text
 
 
-# --- common failure modes, for the three function exercises ---------------------------
+# --- common failure modes, for the four function exercises ----------------------------
 
 FUNCTION_CHECKERS = [
     (check_keyframes, "keyframe_path", (3, 3)),
+    (check_steps_needed, "steps_needed", ()),
     (check_velocity_jump, "velocity_jump", (3,)),
     (check_rotation_mean, "rotation_mean", (3, 3)),
 ]
@@ -66,8 +69,8 @@ def test_nan_is_reported(checker, name, shape):
 
 def test_the_module_holds_no_answer():
     # Only checkers are public: no reference function a learner could import and pass.
-    assert applications.__all__ == ["check_euler_stretch", "check_keyframes",
-                                    "check_rotation_mean", "check_velocity_jump"]
+    assert applications.__all__ == ["check_keyframes", "check_rotation_mean",
+                                    "check_steps_needed", "check_velocity_jump"]
     names = [n for n, f in inspect.getmembers(applications, inspect.isfunction)
              if f.__module__ == applications.__name__]
     assert not [n for n in names if "reference" in n]
@@ -135,37 +138,66 @@ def test_keyframes_typical_mistakes_are_named(student, says):
     assert "Hint:" in repr(fb)
 
 
-# --- 5.2 Euler's stretch factor -------------------------------------------------------
+# --- 5.2 how many Euler steps keep the body's size ------------------------------------
 
-def test_euler_stretch_right_answer_passes():
-    assert check_euler_stretch(1.01 ** 100)
-
-
-def test_euler_stretch_simulated_answer_passes():
-    R, step = np.eye(3), np.eye(3) + 0.05 * hat([0.0, 0.0, 2.0])
-    for _ in range(200):
-        R = R @ step
-    fb = check_euler_stretch(np.linalg.norm(R @ [1.0, 0.0, 0.0]))
-    assert fb and "threefold" in repr(fb)
+def _length_mp(speed, T, N):
+    # |R_N e_x| after N Euler steps, at 50 digits: (1 + (speed T / N)^2)^(N / 2).
+    with mpmath.workdps(50):
+        return (1 + (mpmath.mpf(speed) * T / N) ** 2) ** (mpmath.mpf(N) / 2)
 
 
-@pytest.mark.parametrize("answer, says", [
+def _steps_needed(speed, T, tol):
+    # smallest N by simulation: matrix powers of one Euler step, from a low start
+    def length(N):
+        step = np.eye(3) + (T / N) * hat([0.0, 0.0, speed])
+        return np.linalg.norm(np.linalg.matrix_power(step, N)[:, 0])
+    N = max(1, int((speed * T) ** 2 / (2 * np.log1p(tol))) - 3)
+    while N > 1 and length(N - 1) <= 1 + tol:
+        N -= 1
+    while length(N) > 1 + tol:
+        N += 1
+    return N
+
+
+def test_steps_needed_cases_are_far_from_rounding():
+    # Each case's answer N has length(N) <= 1 + tol < length(N - 1) at 50 digits, with a
+    # margin far above float64 rounding, so a float simulation cannot land on the wrong N.
+    for _, (speed, T, tol) in applications._STEPS_CASES:
+        N = _steps_needed(speed, T, tol)
+        with mpmath.workdps(50):
+            assert _length_mp(speed, T, N) <= 1 + mpmath.mpf(tol) - mpmath.mpf("1e-12")
+            if N > 1:
+                assert _length_mp(speed, T, N - 1) >= 1 + mpmath.mpf(tol) + mpmath.mpf("1e-12")
+        assert abs(applications._euler_length(speed, T, N) - float(_length_mp(speed, T, N))) < 1e-13
+
+
+def test_steps_needed_right_answers_pass():
+    fb = check_steps_needed(_steps_needed)
+    assert fb and repr(fb).startswith("Correct: steps_needed")
+    # the prediction, rounded up, is also right on these cases (it is checked, not trusted)
+    assert check_steps_needed(lambda v, T, tol: math.ceil((v * T) ** 2 / (2 * math.log1p(tol))))
+    assert check_steps_needed(lambda v, T, tol: float(_steps_needed(v, T, tol)))
+
+
+@pytest.mark.parametrize("student, says", [
     (None, "No answer yet"),
     (..., "No answer yet"),
-    ("about 2.7", "not a number"),
-    ([2.7, 1.0], r"has shape \(2,\)"),
-    (float("nan"), "NaN or inf"),
-    (1.0, "not a rotation"),
-    (1.01 ** 200, "squared length"),
-    (1.1 ** 200, "right triangle"),
-    (1.1 ** 100, "right triangle"),
-    (np.sqrt(1.01), "one step"),
-    (3.0, "not the length"),
+    (lambda v, T, tol: "many", "not a number"),
+    (lambda v, T, tol: [1, 2], r"has shape \(2,\)"),
+    (lambda v, T, tol: float("nan"), "NaN or inf"),
+    (lambda v, T, tol: _steps_needed(v, T, tol) - 1 if _steps_needed(v, T, tol) > 1 else 0,
+     "too small|whole number"),
+    (lambda v, T, tol: _steps_needed(v, T, tol) + 1, "smallest N"),
+    (lambda v, T, tol: 0.5 + _steps_needed(v, T, tol), "whole number"),
+    (lambda v, T, tol: _steps_needed(v, T, 2 * tol + tol**2), "too small"),
+    (lambda v, T, tol: _steps_needed(v, T, np.sqrt(1 + tol) - 1), "squared length"),
+    (lambda v, T, tol: 10**6, "smallest N"),
 ])
-def test_euler_stretch_wrong_answers_get_a_message(answer, says):
-    fb = check_euler_stretch(answer)
-    _assert_not_yet(fb, "the length", says)
-    assert "2.704" not in repr(fb) and not re.search(r"expected (?!shape)", repr(fb))
+def test_steps_needed_wrong_answers_get_a_message(student, says):
+    fb = check_steps_needed(student)
+    _assert_not_yet(fb, "steps_needed", says)
+    assert not re.search(r"expected (?!shape)", repr(fb)) and "20100" not in repr(fb)
+    assert "Hint:" in repr(fb) or "No answer" in repr(fb)
 
 
 # --- 5.3 the jump of the angular velocity ---------------------------------------------

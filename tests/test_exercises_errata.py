@@ -47,7 +47,23 @@ def _raise(exc):
 def test_right_answers_pass():
     fb = check_wrapped_velocity(_wrapped)
     assert fb and repr(fb).startswith("Correct: wrapped_velocity")
-    assert check_wrapped_velocity(lambda w, t: log(exp(w, t), t))      # the library's way
+
+
+def test_calling_log_is_noticed():
+    # The exercise forbids calling log: the library's way, directly, through the package or
+    # from a helper defined inside, is refused with a message that says so.
+    import so3lib
+
+    def nested(w, t):
+        def inner(R):
+            return log(R, t)
+        return inner(exp(w, t))
+
+    for student in (lambda w, t: log(exp(w, t), t), lambda w, t: so3lib.log(exp(w, t), t),
+                    nested):
+        _assert_not_yet(check_wrapped_velocity(student), "calls log")
+    # np.log, or a local variable named log, is not so3lib's log
+    assert check_wrapped_velocity(lambda w, t, log=None: _wrapped(w, t))
 
 
 @pytest.mark.parametrize("student, says", [
@@ -88,5 +104,5 @@ def test_the_module_holds_no_answer():
     # Only the checker is public, and no function of the module returns a velocity.
     public = [n for n, f in inspect.getmembers(errata, inspect.isfunction)
               if f.__module__ == errata.__name__]
-    assert sorted(public) == ["_fail", "_judge", "check_wrapped_velocity"]
+    assert sorted(public) == ["_calls_log", "_fail", "_judge", "check_wrapped_velocity"]
     assert errata.__all__ == ["check_wrapped_velocity"]

@@ -6,7 +6,8 @@ checker                    the exercise
 ``check_keyframes``        5.1 ``keyframe_path(Rs, times, t)``: the orientation at time
                            ``t`` on the path through keyframes ``Rs`` at ``times``, one
                            geodesic (5.2) per segment
-``check_euler_stretch``    5.2 the length of ``e_x`` after 200 Euler steps (5.7)
+``check_steps_needed``     5.2 ``steps_needed(speed, T, tol)``: the fewest Euler steps
+                           (5.7) that keep the body within a factor ``1 + tol`` of its size
 ``check_velocity_jump``    5.3 ``velocity_jump(Rs, times)``: how much the body angular
                            velocity jumps at the middle of three keyframes
 ``check_rotation_mean``    5.4 ``rotation_mean(Rs, weights)``, the weighted geodesic
@@ -26,9 +27,9 @@ import numpy as np
 
 from ..so3 import exp, log
 from ..validation import rotation_defects
-from . import Feedback, never_raises
+from . import Feedback
 
-__all__ = ["check_euler_stretch", "check_keyframes", "check_rotation_mean",
+__all__ = ["check_keyframes", "check_rotation_mean", "check_steps_needed",
            "check_velocity_jump"]
 
 _NOT_ANSWERED = ("No answer yet: replace the `...` (or `None`) with your answer and run the "
@@ -178,43 +179,54 @@ def check_keyframes(func):
                 "that segment, and use (5.2) between R_i and R_(i+1).")
 
 
-# --- 5.2 Euler's stretch factor -------------------------------------------------------
+# --- 5.2 how many Euler steps keep the body's size -------------------------------------
 
-_EULER = {"omega": (0.0, 0.0, 2.0), "dt": 0.05, "steps": 200}
+# (speed in rad/s, T in s, tol): each margin from 1 + tol is far above rounding (tests).
+_STEPS_CASES = [
+    ("speed 2 rad/s for 10 s, tol = 0.01", (2.0, 10.0, 0.01)),
+    ("speed 1 rad/s for 1 s, tol = 0.1", (1.0, 1.0, 0.1)),
+    ("speed pi rad/s for 2 s, tol = 0.001", (np.pi, 2.0, 0.001)),
+    ("speed 0.5 rad/s for 4 s, tol = 0.5", (0.5, 4.0, 0.5)),
+    ("speed 3 rad/s for 0.1 s, tol = 0.01", (3.0, 0.1, 0.01)),
+    ("speed 1 rad/s for 0.1 s, tol = 0.01 (one step may be enough)", (1.0, 0.1, 0.01)),
+]
 
 
-@never_raises("the length of R_N e_x after 200 Euler steps")
-def check_euler_stretch(answer):
-    r"""Exercise 5.2: the length of :math:`R_N e_x` after N = 200 Euler steps (5.7) from
-    ``I``, with :math:`\omega = (0, 0, 2)` rad/s and ``dt = 0.05`` s."""
-    name = "the length of R_N e_x after 200 Euler steps"
-    hint = ("One Euler step multiplies a vector perpendicular to omega by "
-            "(I + dt hat(omega)); find the length of that product (Pythagoras), then repeat.")
-    if answer is None or answer is Ellipsis:
-        return _fail(name, _NOT_ANSWERED)
-    got, why = _as_array(answer, ())
-    if why:
-        return _fail(name, why, hint)
-    got = float(got)
-    w, dt, N = np.linalg.norm(_EULER["omega"]), _EULER["dt"], _EULER["steps"]
-    step = np.eye(3) + dt * np.array([[0.0, -w, 0.0], [w, 0.0, 0.0], [0.0, 0.0, 0.0]])
-    length = float(np.linalg.norm(np.linalg.matrix_power(step, N)[:, 0]))   # the definition
-    if np.isclose(got, length, rtol=1e-6, atol=0):
-        return _ok(name, "The body has grown almost threefold: Euler steps are not rotations.")
-    one = float(np.hypot(1.0, dt * w))
-    if np.isclose(got, 1.0):
-        why = "A rotation would keep the length 1, but I + dt hat(omega) is not a rotation."
-    elif np.isclose(got, length ** 2, rtol=1e-4):
-        why = "That is the squared length."
-    elif np.isclose(got, (1 + dt * w) ** N, rtol=1e-4) or \
-            np.isclose(got, (1 + dt * w) ** (N / 2), rtol=1e-4):
-        why = ("dt hat(omega) e_x is perpendicular to e_x, so the lengths add like the sides "
-               "of a right triangle, not along a line.")
-    elif np.isclose(got, one, rtol=1e-6):
-        why = "That is one step; the question asks for 200 steps."
-    else:
-        why = "That is not the length after 200 Euler steps."
-    return _fail(name, why, hint)
+def _euler_length(speed, T, N):
+    """Length of R_N e_x after N Euler steps (5.7) from I with omega = (0, 0, speed) and
+    dt = T / N. One step maps the xy-plane to itself, scaled by sqrt(1 + (dt speed)^2), and
+    e_x stays in that plane, so the length is (1 + (dt speed)^2)^(N/2); log1p keeps it
+    accurate to a few eps for large N."""
+    return float(np.exp(N / 2 * np.log1p((speed * T / N) ** 2)))
+
+
+def _judge_steps(got, args):
+    speed, T, tol = args
+    if got != np.floor(got) or got < 1:
+        return "a number of steps is a whole number, at least 1."
+    N = int(got)
+    length = _euler_length(speed, T, N)
+    if length > 1 + tol:
+        return (f"after your N = {N} Euler steps e_x has length {length:.6g}, more than "
+                f"1 + tol: N is too small.")
+    if N > 1 and _euler_length(speed, T, N - 1) <= 1 + tol:
+        if _euler_length(speed, T, N) ** 2 <= 1 + tol < _euler_length(speed, T, N - 1) ** 2:
+            return ("this keeps the squared length within 1 + tol; the exercise asks for "
+                    "the length.")
+        return ("fewer steps than your N already keep the length within 1 + tol: the "
+                "smallest N is asked for.")
+    return None
+
+
+def check_steps_needed(func):
+    r"""Exercise 5.2: ``steps_needed(speed, T, tol)`` is the smallest number N of Euler
+    steps (5.7) of ``dt = T / N`` from ``I`` with :math:`\omega = (0, 0, \text{speed})`
+    after which :math:`\lVert R_N e_x\rVert \le 1 + \text{tol}`: N steps stay within
+    ``1 + tol`` and N - 1 do not."""
+    return _run(func, _STEPS_CASES, "steps_needed", (), _judge_steps,
+                "One Euler step stretches e_x by sqrt(1 + (dt |omega|)^2), and the stretches "
+                "of N steps multiply. Predict N with ln(1 + x) ~ x, then measure N and its "
+                "neighbours.")
 
 
 # --- 5.3 the jump of the angular velocity at a keyframe ----------------------------------

@@ -336,3 +336,26 @@ def test_the_build_never_writes_into_notebooks():
         with pytest.raises(SystemExit):
             assignments.build(bad, [FIXTURE], release=False)
 
+
+
+def test_staging_sorts_out_what_cannot_be_graded(tmp_path):
+    """Without nbgrader: a renamed download is graded under its name, an unreadable file
+    is left out with its reason, a missing notebook and an unknown assignment are named."""
+    course, dirs = tmp_path / "course", tmp_path / "in"
+    (course / "source" / "A").mkdir(parents=True)
+    nbformat.write(nbformat.v4.new_notebook(), str(course / "source" / "A" / "A.ipynb"))
+    good = nbformat.writes(nbformat.v4.new_notebook())
+    for student, name, text in [("ann", "A (1).ipynb", good), ("bo", "A.ipynb", "{oops"),
+                                ("cy", "notes.txt", "x"), ("di", "A.ipynb", good)]:
+        (dirs / student / "A").mkdir(parents=True)
+        (dirs / student / "A" / name).write_text(text, encoding="utf-8")
+    (dirs / "di" / "Z").mkdir()
+    jobs, problems = grade._stage(dirs, course, {"A"}, log=lambda *a: None)
+    assert sorted(jobs) == [("ann", "A"), ("di", "A")]
+    assert (course / "submitted" / "ann" / "A" / "A.ipynb").exists()
+    assert problems[("ann", "A")] == "graded A (1).ipynb as A.ipynb"
+    assert "not a valid notebook" in problems[("bo", "A")]
+    assert not (course / "submitted" / "bo" / "A" / "A.ipynb").exists()
+    assert (dirs / "bo" / "A" / "A.ipynb").exists(), "the submitted folder is never changed"
+    assert "missing A.ipynb" in problems[("cy", "A")]
+    assert ("di", "Z") not in problems and ("di", "Z") not in jobs

@@ -24,6 +24,7 @@ Usage: python -m tools.grade SUBMITTED [--course DIR] [--timeout S] [--out CSV]
 import argparse
 import csv
 import html
+import json
 import os
 import shutil
 import sys
@@ -98,7 +99,18 @@ def _stage(submitted, course, known, log):
                     shutil.rmtree(dest)
                 shutil.copytree(assignment_dir, dest, ignore=shutil.ignore_patterns(".ipynb_checkpoints"))
             reasons = []
+            expected = sorted(p.name for p in (Path(course) / "source" / assignment_dir.name).glob("*.ipynb"))
             notebooks = sorted(dest.glob("*.ipynb"))
+            others = [p for p in notebooks if p.name not in expected]
+            missing = [name for name in expected if not (dest / name).exists()]
+            if len(missing) == 1 and len(others) == 1 and not same:
+                # a download renamed it ("01_x (1).ipynb"): grade it under its own name
+                others[0].rename(dest / missing[0])
+                reasons.append(f"graded {others[0].name} as {missing[0]}")
+                notebooks = sorted(dest.glob("*.ipynb"))
+            elif missing:
+                reasons.append(f"missing {', '.join(missing)}" +
+                               (f" (found {', '.join(p.name for p in others)})" if others else ""))
             for nb in notebooks:
                 why = unreadable(nb)
                 if why:
@@ -110,7 +122,8 @@ def _stage(submitted, course, known, log):
             if reasons:
                 problems[key] = "; ".join(reasons)
             # a corrupt notebook left in place (DIR is the course's own submitted/) is not run
-            if any(dest.glob("*.ipynb")) and not (same and reasons):
+            unreadable_left = same and any("not a valid notebook" in r for r in reasons)
+            if any(dest.glob("*.ipynb")) and not unreadable_left:
                 jobs.append(key)
     return jobs, problems
 
@@ -133,6 +146,7 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
     with _gradebook(course) as gb:
         known = {a.name for a in gb.assignments}
     jobs, problems = _stage(submitted, course, known, log)
+    staged = set(jobs) | set(problems)
     students = sorted({s for s, _ in jobs} | {s for s, _ in problems})
 
     for student, assignment in set(jobs) | set(problems):
@@ -178,6 +192,18 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
     for (student, assignment), why in problems.items():
         _problem_page(course, student, assignment, why)
 
+    # what could not be graded, kept across runs (a later run grades other students)
+    record = course / "grade-problems.json"
+    try:
+        kept = {tuple(k.split("/", 1)): v for k, v in json.loads(record.read_text()).items()}
+    except (OSError, ValueError):
+        kept = {}
+    for key in staged:
+        kept.pop(key, None)
+    kept.update(problems)
+    record.write_text(json.dumps({"/".join(k): v for k, v in sorted(kept.items())}, indent=1))
+    problems = dict(kept)
+
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     nbgrader(course, "export", f"--to={out.resolve()}", "--log-level=ERROR")
@@ -187,7 +213,7 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
             if key not in problems and not _submitted(gb, *key):
                 problems[key] = "no submission"
     rows = _add_problems(out, problems)
-    _by_exercise(course, out.with_name(out.stem + "_by_exercise.csv"), jobs, problems, timeout)
+    _by_exercise(course, out.with_name(out.stem + "_by_exercise.csv"), problems, timeout)
     return rows
 
 
@@ -228,8 +254,9 @@ def _add_problems(path, problems):
     return rows
 
 
-def _by_exercise(course, path, jobs, problems, timeout):
+def _by_exercise(course, path, problems, timeout):
     """One row per student, assignment and exercise, with the reason for lost points."""
+    from nbgrader.api import MissingEntry
     rows = []
     with _gradebook(course) as gb:
         for assignment in gb.assignments:
@@ -237,17 +264,19 @@ def _by_exercise(course, path, jobs, problems, timeout):
                 for cell in notebook.grade_cells:
                     for student in gb.students:
                         key = (student.id, assignment.name)
-                        score, reason = 0.0, problems.get(key, "")
-                        if key in jobs:
-                            try:
-                                g = gb.find_grade(cell.name, notebook.name, assignment.name, student.id)
-                                score = float(g.score)
-                            except Exception:
-                                reason = reason or NOT_RUN
-                        elif not reason:
-                            reason = "no submission"
-                        if key in jobs and not reason and score < float(cell.max_score):
-                            reason = _reason_from_notebook(course, key, notebook.name, cell.name, timeout)
+                        note = problems.get(key, "")
+                        try:            # this run's grade, or an earlier run's still in the book
+                            g = gb.find_grade(cell.name, notebook.name, assignment.name, student.id)
+                            score = float(g.score)
+                        except MissingEntry:
+                            score = None
+                        if score is None:
+                            score, reason = 0.0, note or "no submission"
+                        elif score < float(cell.max_score):
+                            why = _reason_from_notebook(course, key, notebook.name, cell.name, timeout)
+                            reason = "; ".join(filter(None, [note, why]))
+                        else:
+                            reason = note
                         rows.append({"student_id": student.id, "assignment": assignment.name,
                                      "notebook": notebook.name, "exercise": cell.name,
                                      "score": score, "max_score": float(cell.max_score),

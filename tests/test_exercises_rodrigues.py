@@ -185,3 +185,34 @@ def test_B_wrong_answers_get_a_message(student, pattern):
 def test_B_message_shows_no_expected_value():
     text = repr(check_B(_taylor_below(0.45)))
     assert "expected" not in text and "0.49" not in text, text
+
+
+# ------------------------------------------------------------------ notebook 02 in step
+
+def _notebook_02_prose():
+    import json
+    from pathlib import Path
+    path = Path(__file__).resolve().parent.parent / "notebooks" / "02_rodrigues_from_the_series.ipynb"
+    cells = json.loads(path.read_text(encoding="utf-8"))["cells"]
+    return "\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+
+
+def test_notebook_02_describes_exp_as_the_library_computes_it():
+    """Section 6 of notebook 02 teaches the one-tangent form of so3lib.exp; the docstring
+    of exp and the constants of so3lib.series must say the same, or this test fails."""
+    from so3lib import series
+    prose = _notebook_02_prose()
+    doc = so3lib.exp.__doc__
+    # one tangent, no Taylor branch, up to 1e145: notebook and docstring
+    assert r"t = \tan h" in prose and "t = tan(h)" in doc
+    assert "10^{145}" in prose and "1e145" in doc
+    assert "no Taylor branch" in prose.replace("No Taylor branch", "no Taylor branch")
+    assert "no Taylor branch" in doc
+    # so3lib.B keeps the textbook forms, with Taylor below 1e-4
+    assert series._TAYLOR_BELOW == 1e-4
+    assert r"Taylor below $10^{-4}$" in prose
+    # words of the algorithm exp no longer uses, and of SciPy's expm as a plain series
+    for stale in ("half-angle B up to", "unit-axis form", "sums a short series",
+                  "no float method can promise"):
+        assert stale not in prose, stale
+    assert "Padé" in prose and "Al-Mohy" in prose

@@ -114,11 +114,12 @@ assignments: $(STAMP)
 	$(BIN)/python -m tools.assignments
 
 # Autograde SUBMITTED/STUDENT_ID/ASSIGNMENT/NOTEBOOK.ipynb (tools/grade.py); a cell may run
-# TIMEOUT seconds. Writes build/grades.csv and build/coursework/feedback/.
+# TIMEOUT seconds; JOBS notebooks at once. Writes build/grades.csv and build/coursework/feedback/.
 SUBMITTED ?= build/coursework/submitted
 TIMEOUT ?= 60
+JOBS ?= 1
 grade: $(STAMP)
-	$(BIN)/python -m tools.grade $(SUBMITTED) --timeout $(TIMEOUT)
+	$(BIN)/python -m tools.grade $(SUBMITTED) --timeout $(TIMEOUT) --jobs $(JOBS)
 
 clean:
 	rm -rf $(VENV) build .pytest_cache .hypothesis

@@ -18,7 +18,7 @@ assignment on its own (so that one broken notebook never stops the others):
    not be graded. build/grades_by_exercise.csv has one row per exercise, with the reason a
    test failed (the hidden test's assertion, the error raised, the time limit).
 
-Usage: python -m tools.grade SUBMITTED [--course DIR] [--timeout S] [--out CSV]
+Usage: python -m tools.grade SUBMITTED [--course DIR] [--timeout S] [--jobs N] [--out CSV]
 """
 
 import argparse
@@ -29,6 +29,7 @@ import os
 import shutil
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import nbformat
@@ -135,7 +136,7 @@ def _tail(run):
 
 
 def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=None,
-          out=BUILD / "grades.csv", log=print):
+          out=BUILD / "grades.csv", log=print, jobs_at_once=1):
     """Grade every student and assignment in SUBMITTED; returns the rows of the CSV."""
     course = Path(course).resolve()
     if not (course / "gradebook.db").exists() or not (course / "source").is_dir():
@@ -160,9 +161,9 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
                 gb.remove_submission(assignment, student)
             except Exception:
                 pass
-    failed_jobs = set()
-    for student, assignment in jobs:
-        start = time.monotonic()
+    def autograde(job):
+        student, assignment = job
+        begin = time.monotonic()
         try:
             run = nbgrader(course, "autograde", assignment, f"--student={student}", "--force",
                            f"--Execute.timeout={int(timeout)}", "--log-level=ERROR",
@@ -171,15 +172,25 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
         except Exception as err:        # subprocess.TimeoutExpired, above all
             failed = f"grading stopped after {notebook_timeout} s ({type(err).__name__})"
         log(f"autograde {student}/{assignment}: {'FAILED, ' + failed if failed else 'done'} "
-            f"({time.monotonic() - start:.0f} s)")
-        if failed:
-            failed_jobs.add((student, assignment))
-            problems[(student, assignment)] = "; ".join(filter(None, [problems.get((student, assignment)), failed]))
-            with _gradebook(course) as gb:
-                try:
-                    gb.remove_submission(assignment, student)
-                except Exception:
-                    pass
+            f"({time.monotonic() - begin:.0f} s)")
+        return failed
+
+    # Each student and assignment in its own nbgrader process, JOBS at a time; one that
+    # fails beside others (the SQLite gradebook can be busy) is tried once more alone.
+    failed_jobs = {}
+    with ThreadPoolExecutor(max_workers=max(1, jobs_at_once)) as pool:
+        for job, failed in zip(jobs, pool.map(autograde, jobs)):
+            if failed:
+                failed_jobs[job] = failed
+    if jobs_at_once > 1:
+        failed_jobs = {job: why for job in list(failed_jobs) if (why := autograde(job))}
+    for (student, assignment), failed in failed_jobs.items():
+        problems[(student, assignment)] = "; ".join(filter(None, [problems.get((student, assignment)), failed]))
+        with _gradebook(course) as gb:
+            try:
+                gb.remove_submission(assignment, student)
+            except Exception:
+                pass
     jobs = [job for job in jobs if job not in failed_jobs]
 
     run = nbgrader(course, "generate_feedback", "*", "--force", "--log-level=ERROR", check=False) \
@@ -315,8 +326,11 @@ def main(argv=None):
     parser.add_argument("--notebook-timeout", type=int, default=None,
                         help="seconds one notebook may take in all (default max(900, 20 x timeout))")
     parser.add_argument("--out", type=Path, default=BUILD / "grades.csv")
+    parser.add_argument("--jobs", type=int, default=1,
+                        help="notebooks graded at once, each in its own kernel (default 1)")
     args = parser.parse_args(argv)
-    rows = grade(args.submitted, args.course, args.timeout, args.notebook_timeout, args.out)
+    rows = grade(args.submitted, args.course, args.timeout, args.notebook_timeout, args.out,
+                 jobs_at_once=args.jobs)
     for row in rows:
         note = f"  ({row['problem']})" if row["problem"] else ""
         print(f"{row['student_id']:>16}  {row['assignment']:<32} {float(row['score']):6.1f} / "

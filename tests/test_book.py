@@ -23,7 +23,7 @@ from urllib.parse import unquote, urlsplit
 import pytest
 from bs4 import BeautifulSoup
 
-from browser_support import MATHJAX_ERRORS, ROOT, Offline, require_chromium, screenshot
+from browser_support import MATHJAX_ERRORS, ROOT, Offline, screenshot
 from tools import book, vendor
 from tools.common import course_notebooks, read
 
@@ -38,18 +38,26 @@ def _skip_or_fail(why):
     pytest.skip(why)
 
 
+_BUILT = {}
+
+
 @pytest.fixture(scope="session")
 def pages():
-    """The built book: index.html, then one page per notebook in course order."""
+    """The built book: index.html, then one page per notebook in course order. The pages
+    and the notebook copies they were built from are read at once, in case someone else
+    rebuilds the book while the tests run."""
     try:
-        return book.build(ROOT / "build" / "book")
+        built = book.build(ROOT / "build" / "book")
     except SystemExit as e:  # npm missing or the registry unreachable
         _skip_or_fail(str(e))
+    _BUILT["soups"] = {p.name: BeautifulSoup(p.read_text(encoding="utf-8"), "html.parser") for p in built}
+    _BUILT["sources"] = {p.name: read(book.SOURCE / p.name) for p in course_notebooks(book.SOURCE)}
+    return built
 
 
 @pytest.fixture(scope="session")
 def soups(pages):
-    return {p.name: BeautifulSoup(p.read_text(encoding="utf-8"), "html.parser") for p in pages}
+    return _BUILT["soups"]
 
 
 def _words(element):
@@ -117,7 +125,7 @@ def test_no_speaker_notes_or_hidden_tests(pages, soups):
 
 def _built_from(nb_path):
     """The learner's copy the book was built from (the notebook itself may have moved on)."""
-    return read(book.SOURCE / nb_path.name)
+    return _BUILT["sources"][nb_path.name]
 
 
 def test_solutions_are_collapsed_and_figure_code_folded(pages, soups):
@@ -377,11 +385,10 @@ def test_a_plain_static_server_serves_it_with_no_other_request(browser, pages):
 
 
 @pytest.fixture(scope="session")
-def pdf(pages):
-    require_chromium()
+def pdf(browser, pages):
     if not shutil.which("pdftotext"):
         _skip_or_fail("pdftotext (poppler-utils) is needed to read the PDF")
-    return book.build_pdf()
+    return book.build_pdf(browser=browser)
 
 
 @pytest.mark.browser

@@ -562,9 +562,10 @@ def _heading_pages(pdf, titles):
     return found
 
 
-def print_pdf(site=PRINT_OUT, pdf=PDF):
+def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
     """Print SITE/index.html (the one-page book) to PDF with Chromium, no network. Skipped
-    when the page and this script are unchanged since the PDF was printed."""
+    when the page and this script are unchanged since the PDF was printed. BROWSER: a
+    running Playwright Chromium to use (else one is started)."""
     import hashlib
     from playwright.sync_api import sync_playwright
     pdf = Path(pdf)
@@ -577,43 +578,48 @@ def print_pdf(site=PRINT_OUT, pdf=PDF):
               '<span class="pageNumber"></span> / <span class="totalPages"></span></div>')
     header = (f'<div style="font-size:8px;width:100%;text-align:center;color:#444">'
               f'{BOOK_TITLE}</div>')
-    with sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=chromium_executable(), args=CHROMIUM_ARGS)
-        try:
-            context = browser.new_context(viewport={"width": 1000, "height": 1400})
-            context.route("**/*", lambda r: r.continue_() if r.request.url.startswith(
-                ("file:", "data:", "about:", "blob:")) else r.abort())
-            page = context.new_page()
-            page.set_default_timeout(120_000)
-            page.goto((Path(site) / "index.html").as_uri())
-            page.wait_for_function("window.MathJax && MathJax.startup && MathJax.startup.promise")
-            page.evaluate("MathJax.startup.promise")
-            page.add_style_tag(content=PRINT_CSS)
-            page.emulate_media(media="print")
-            titles = page.evaluate(PRINT_PREPARE, None)
-            options = dict(format="A4", print_background=True, outline=True, tagged=True,
-                           display_header_footer=True, header_template=header,
-                           footer_template=footer,
-                           margin={"top": "16mm", "bottom": "16mm", "left": "14mm", "right": "14mm"})
-            tmp = Path(pdf).with_suffix(".tmp.pdf")
-            page.pdf(path=str(tmp), **options)
-            # second pass: the contents list gets the page numbers the first pass found
-            numbers = _heading_pages(tmp, titles)
-            page.evaluate(PRINT_PREPARE, numbers)
-            page.pdf(path=str(tmp), **options)
-            os.replace(tmp, pdf)
-            stamp.write_text(key)
-        finally:
-            browser.close()
+    if browser is None:
+        with sync_playwright() as pw:
+            browser = pw.chromium.launch(executable_path=chromium_executable(), args=CHROMIUM_ARGS)
+            try:
+                return print_pdf(site, pdf, browser)
+            finally:
+                browser.close()
+    context = browser.new_context(viewport={"width": 1000, "height": 1400})
+    try:
+        context.route("**/*", lambda r: r.continue_() if r.request.url.startswith(
+            ("file:", "data:", "about:", "blob:")) else r.abort())
+        page = context.new_page()
+        page.set_default_timeout(120_000)
+        page.goto((Path(site) / "index.html").as_uri())
+        page.wait_for_function("window.MathJax && MathJax.startup && MathJax.startup.promise")
+        page.evaluate("MathJax.startup.promise")
+        page.add_style_tag(content=PRINT_CSS)
+        page.emulate_media(media="print")
+        titles = page.evaluate(PRINT_PREPARE, None)
+        options = dict(format="A4", print_background=True, outline=True, tagged=True,
+                       display_header_footer=True, header_template=header,
+                       footer_template=footer,
+                       margin={"top": "16mm", "bottom": "16mm", "left": "14mm", "right": "14mm"})
+        tmp = Path(pdf).with_suffix(".tmp.pdf")
+        page.pdf(path=str(tmp), **options)
+        # second pass: the contents list gets the page numbers the first pass found
+        numbers = _heading_pages(tmp, titles)
+        page.evaluate(PRINT_PREPARE, numbers)
+        page.pdf(path=str(tmp), **options)
+        os.replace(tmp, pdf)
+        stamp.write_text(key)
+    finally:
+        context.close()
     return pdf
 
 
-def build_pdf(pdf=PDF, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
+def build_pdf(pdf=PDF, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL, browser=None):
     """The whole course as one PDF: the book built as one page, printed by Chromium."""
     prepare(SOURCE, repository_url, jupyterhub_url)
     sphinx(SOURCE, PRINT_OUT, "singlehtml")
     postprocess(PRINT_OUT)
-    return print_pdf(PRINT_OUT, pdf)
+    return print_pdf(PRINT_OUT, pdf, browser)
 
 
 def report_missing_alt():

@@ -152,7 +152,8 @@ def coursework(tmp_path_factory):
         (bad / f"{name}.ipynb").write_text('{"cells": [{"cell_type": "code", "source": "x = ', encoding="utf-8")
         expected[("s9-corrupt", name)] = {ex.grade_id: (0, "corrupt") for ex in found}
     out = root / "grades.csv"
-    grade.grade(submitted, course, timeout=TIMEOUT, notebook_timeout=300, out=out, log=lambda *a: None)
+    grade.grade(submitted, course, timeout=TIMEOUT, notebook_timeout=300, out=out, log=lambda *a: None,
+                jobs_at_once=2)
     with open(out, newline="") as fh:
         rows = list(csv.DictReader(fh))
     with open(root / "grades_by_exercise.csv", newline="") as fh:

@@ -170,12 +170,22 @@ def finish(page, solutions=False):
 
 # --- build ----------------------------------------------------------------------------------
 
+PLOTLY_MIME = "application/vnd.plotly.v1+json"
+
+
+def has_plotly(nb):
+    """Whether a notebook shows a figure the learner turns (so3lib.plot.show_3d)."""
+    return any(PLOTLY_MIME in out.get("data", {})
+               for cell in nb.cells if cell.cell_type == "code" for out in cell.get("outputs", []))
+
+
 def build(out=OUT, notebooks=None, solutions=False):
     """Write OUT/NN_name.slides.html for each notebook and the assets; returns the paths.
     With solutions=True the decks keep the worked solutions (for after the deadline)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     vendor.install(out / VENDOR_DIR, ["reveal.js", "mathjax3", "jquery", "requirejs"])
+    vendor.install_plotly(out / VENDOR_DIR)
     copy_assets(out)
     exp, stamps = exporter(solutions), Stamps(out)
     tooling = tooling_key() + ("+solutions" if solutions else "")
@@ -185,7 +195,11 @@ def build(out=OUT, notebooks=None, solutions=False):
         target = out / f"{path.stem}.slides.html"
         key = stamps.key(tooling, path.read_bytes())
         if not stamps.fresh(target.name, key):  # unchanged since the last build: keep it
-            body, _ = exp.from_notebook_node(read(path), resources={"metadata": {"name": path.stem}})
+            nb = read(path)
+            resources = {"metadata": {"name": path.stem}}
+            if has_plotly(nb):  # a figure the learner turns: load the one vendored plotly.js
+                resources["plotly_js"] = f"{VENDOR_DIR}/{vendor.PLOTLY_JS}"
+            body, _ = exp.from_notebook_node(nb, resources=resources)
             write_atomic(target, finish(body, solutions))
             stamps.record(target.name, key)
         written.append(target)
@@ -304,7 +318,8 @@ MEASURE_JS = r"""
       }
     }
     const figures = [...slide.querySelectorAll('img, .jp-RenderedSVG svg, .plotly-graph-div, canvas')]
-      .filter(e => !inNotes(e) && laidOut(e)).map(e => { const r = e.getBoundingClientRect();
+      .filter(e => !inNotes(e) && laidOut(e) && !(e.tagName !== 'DIV' && e.closest('.plotly-graph-div')))
+      .map(e => { const r = e.getBoundingClientRect();
         return {w: Math.round(r.width), h: Math.round(r.height),
                 big: r.width >= 0.5 * W - 1 || r.height >= 0.5 * H - 1,
                 alt: e.tagName === 'IMG' ? (e.getAttribute('alt') || '') : (e.getAttribute('aria-label') || '-')}; });

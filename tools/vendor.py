@@ -120,6 +120,39 @@ def install(dest, names):
     return dest
 
 
+# plotly.js for the figures a learner turns (so3lib.plot.show_3d), taken from the pinned plotly
+# Python package (environment.txt) rather than npm: it is the very plotly.js that package writes
+# its figures for and that its JupyterLab renderer draws them with, it is on every machine that
+# can run the notebooks, and it needs no download. Pinned by its sha512 below, so that a plotly
+# upgrade is a deliberate change here (update both, then `make slides book`).
+PLOTLY_JS_VERSION = "4.1.1"  # bundled by plotly 7.1.0
+PLOTLY_JS_SHA512 = ("sha512-2SAjXeni/1+3u+HXGF7+CYi8nJ5WYF/2cBFcrgIv+4Ie9W5rpoXVnHGAM0tm0HBg+sKD"
+                    "j8+CnFEQwCWxA4uqig==")
+PLOTLY_JS = "plotly/plotly.min.js"  # relative to the directory the assets go in
+
+
+def install_plotly(dest):
+    """Copy the plotly Python package's plotly.min.js to DEST/plotly/ after checking its
+    sha512; returns the path written."""
+    from importlib.resources import files
+
+    source = Path(str(files("plotly") / "package_data" / "plotly.min.js"))
+    if not source.is_file():
+        raise SystemExit("plotly.min.js is not in the plotly package: install the pinned plotly")
+    if _sri(source) != PLOTLY_JS_SHA512:
+        raise SystemExit(f"{source}: not the pinned plotly.js {PLOTLY_JS_VERSION} (sha512 differs);"
+                         " install the plotly of environment.txt or update tools/vendor.py")
+    target = Path(dest) / PLOTLY_JS
+    if target.is_file() and target.stat().st_size == source.stat().st_size \
+            and _sri(target) == PLOTLY_JS_SHA512:
+        return target
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = target.with_name(f".plotly.min.js.{os.getpid()}.tmp")
+    shutil.copyfile(source, tmp)
+    os.replace(tmp, target)
+    return target
+
+
 if __name__ == "__main__":
     for n in PACKAGES:
         print(tarball(n))

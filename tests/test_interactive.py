@@ -1,0 +1,345 @@
+"""Figures the learner turns with the mouse (issue 13, "Interactive 3-D"): plotly figures
+shown with so3lib.plot.show_3d.
+
+- The output bundle: the plotly JSON for JupyterLab's renderer (a "safe" renderer, so it
+  draws in a notebook that is not trusted, with no kernel), an HTML part with a fixed div
+  id that draws with the page's own plotly.js, and the alt text; no plotly.js and no CDN
+  inside a notebook, and every notebook file under 1.5 MB.
+- In Chromium with every request outside file:// blocked: the fixture notebook
+  (tests/fixtures/10_fixture_interactive.ipynb) as a deck and as a book page, and the
+  course's notebooks 01 to 05 in their decks and book pages: the figure draws (WebGL), fits
+  its slide, and a mouse drag turns it (plotly's _fullLayout.scene.camera changes).
+- Each interactive figure's cell carries the same alt text in metadata.mystnb.image.alt as
+  its figure's aria-label, and starts or sits on a slide of the deck.
+"""
+
+import html as htmllib
+import json
+import re
+import shutil
+from unittest import mock
+
+import nbformat
+import pytest
+import yaml
+
+from browser_support import ROOT, SCREENSHOTS, Offline
+from tools import book, slides, vendor
+from tools.common import course_notebooks, read
+
+FIXTURE = ROOT / "tests" / "fixtures" / "10_fixture_interactive.ipynb"
+PLOTLY_MIME = "application/vnd.plotly.v1+json"
+MAX_NOTEBOOK_BYTES = 1_500_000
+# notebooks 01 to 05 each have at least one figure the learner turns
+TURNABLE = [p for p in course_notebooks() if p.name[:2] in {"01", "02", "03", "04", "05"}]
+
+
+def _plotly_cells(nb):
+    """(index, cell, output) of every show_3d output of a notebook."""
+    return [(i, c, o) for i, c in enumerate(nb.cells) if c.cell_type == "code"
+            for o in c.get("outputs", []) if PLOTLY_MIME in o.get("data", {})]
+
+
+def _aria_label(html):
+    m = re.search(r'class="plotly-graph-div course-plotly" role="img" aria-label="([^"]*)"', html)
+    return m and m.group(1)
+
+
+# --- the output bundle ------------------------------------------------------------------------
+
+def _bundle(fig, name, alt):
+    from so3lib import plot
+    out = {}
+    with mock.patch("IPython.display.display", lambda b, raw: out.update(b)):
+        plot.show_3d(fig, name, alt)
+    return out
+
+
+def _small_figure():
+    import numpy as np
+
+    from so3lib import plot
+    fig = plot.new_3d_figure("The identity frame")
+    for t in plot.frame_traces(np.eye(3), name="I"):
+        fig.add_trace(t)
+    return fig
+
+
+ALT = "The identity's body frame: a red, a green and a blue arrow along x, y and z."
+
+
+def test_bundle_has_json_html_and_words_and_no_plotly_js():
+    out = _bundle(_small_figure(), "identity", ALT)
+    assert set(out) == {PLOTLY_MIME, "text/html", "text/plain"}
+    assert {"data", "layout", "config"} <= set(out[PLOTLY_MIME])
+    html = out["text/html"]
+    assert 'id="so3-identity"' in html and _aria_label(html) == ALT.replace("'", "&#x27;")
+    assert ALT in out["text/plain"]
+    assert len(html) < 50_000, "plotly.js itself went into the notebook"
+    assert "https://" not in html and "cdn" not in html.lower()
+    # byte-stable: the same figure twice gives the same output (strict nbval)
+    assert _bundle(_small_figure(), "identity", ALT) == out
+
+
+@pytest.mark.parametrize("name, alt, what", [
+    ("Bad Name", ALT, "name"), ("x" * 80, ALT, "name"), ("ok", "", "alt"),
+    ("ok", "a frame", "alt"), ("ok", None, "alt"),
+])
+def test_bad_input_says_what_was_expected(name, alt, what):
+    from so3lib import plot
+    with pytest.raises(ValueError, match=what):
+        plot.show_3d(_small_figure(), name, alt)
+    with pytest.raises(ValueError, match="plotly figure"):
+        plot.show_3d({"data": []}, "ok", ALT)
+
+
+def test_frame_traces_and_slider_check_their_input():
+    from so3lib import plot
+    with pytest.raises(ValueError, match="3x3"):
+        plot.frame_traces([1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match="one label per frame"):
+        plot.time_slider(_small_figure(), [[]], ["0", "1"], "t = ")
+
+
+def test_jupyterlab_renderer_is_installed_and_safe():
+    """JupyterLab draws the JSON part itself (its plotly renderer brings its own plotly.js),
+    in a notebook opened without a kernel and not trusted: the renderer must be "safe"."""
+    ext = ROOT / ".venv" / "share" / "jupyter" / "labextensions" / "jupyterlab-plotly"
+    if not ext.is_dir():
+        pytest.skip("no .venv/share/jupyter/labextensions/jupyterlab-plotly (plotly not in .venv)")
+    js = "".join(p.read_text(errors="replace") for p in (ext / "static").glob("*.js"))
+    assert PLOTLY_MIME in js
+    assert re.search(r"safe:!0,mimeTypes:\[\w+\]", js), "the plotly renderer is not marked safe"
+
+
+# --- the notebooks ------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("path", course_notebooks() + [FIXTURE], ids=lambda p: p.stem)
+def test_notebook_size(path):
+    size = path.stat().st_size
+    assert size < MAX_NOTEBOOK_BYTES, f"{path.name} is {size / 1e6:.2f} MB (limit 1.5 MB)"
+    text = path.read_text()
+    assert "Copyright 2012-" not in text, f"{path.name} holds a copy of plotly.js"
+
+
+@pytest.mark.parametrize("path", course_notebooks() + [FIXTURE], ids=lambda p: p.stem)
+def test_interactive_figures_have_alt_text_and_a_slide(path):
+    nb = read(path)
+    for i, cell, out in _plotly_cells(nb):
+        alt = ((cell.metadata.get("mystnb") or {}).get("image") or {}).get("alt")
+        assert alt, f"{path.name} cell {i}: no metadata.mystnb.image.alt"
+        label = _aria_label(out["data"].get("text/html", ""))
+        assert label is not None and htmllib.unescape(label) == alt, \
+            f"{path.name} cell {i}: the figure's aria-label differs from metadata.mystnb.image.alt"
+        assert "slideshow" in cell.metadata, f"{path.name} cell {i}: no slideshow metadata"
+        assert cell.metadata["slideshow"].get("slide_type") != "skip", \
+            f"{path.name} cell {i}: the interactive figure is left out of the deck"
+
+
+@pytest.mark.parametrize("path", TURNABLE, ids=lambda p: p.stem)
+def test_notebook_has_a_figure_to_turn(path):
+    assert _plotly_cells(read(path)), f"{path.name} has no figure the learner turns (show_3d)"
+
+
+@pytest.mark.parametrize("path", course_notebooks() + [FIXTURE], ids=lambda p: p.stem)
+def test_div_ids_are_fixed_and_unique(path):
+    ids = [re.search(r'<div id="([^"]+)" class="plotly-graph-div', o["data"]["text/html"]).group(1)
+           for _, _, o in _plotly_cells(read(path))]
+    assert all(i.startswith("so3-") for i in ids), ids
+    assert len(ids) == len(set(ids)), f"{path.name}: a div id is used twice: {ids}"
+
+
+# --- in Chromium -------------------------------------------------------------------------------
+
+SHOTS = SCREENSHOTS / "interactive"
+
+
+def screenshot(page, path):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(path))
+
+PLOT_READY = """(sel) => { const g = document.querySelector(sel);
+  return !!(g && g._fullLayout && g._fullLayout.scene && g._fullLayout.scene._scene
+            && g.querySelector('canvas')); }"""
+CAMERA = "(sel) => JSON.stringify(document.querySelector(sel)._fullLayout.scene.camera)"
+
+
+def drag_turns(page, selector):
+    """Drag the mouse across the 3-D scene of the plotly figure SELECTOR; returns the camera
+    before and after (plotly's _fullLayout.scene.camera)."""
+    page.wait_for_function(PLOT_READY, arg=selector)
+    page.wait_for_timeout(500)  # the scene's first frames, and any resize
+    page.locator(selector).scroll_into_view_if_needed()
+    before = page.evaluate(CAMERA, selector)
+    box = page.evaluate("""(sel) => { const r = document.querySelector(sel).querySelector('canvas')
+      .getBoundingClientRect(); return [r.left, r.top, r.width, r.height]; }""", selector)
+    x, y, w, h = box
+    after = before
+    for fx, fy in ((0.3, 0.7), (0.5, 0.5), (0.7, 0.3)):  # away from the traces, then others
+        x0, y0 = x + fx * w, y + fy * h
+        page.mouse.move(x0, y0)
+        page.mouse.down()
+        for k in range(1, 13):
+            page.mouse.move(x0 + 12 * k, y0 + 3 * k, steps=3)
+            page.wait_for_timeout(30)
+        page.mouse.up()
+        page.wait_for_timeout(300)
+        after = page.evaluate(CAMERA, selector)
+        if after != before:
+            break
+    return json.loads(before), json.loads(after)
+
+
+def _eye_moved(before, after):
+    b, a = before["eye"], after["eye"]
+    return max(abs(a[k] - b[k]) for k in "xyz")
+
+
+def _check_deck(browser, deck, shots):
+    d = slides.OfflineDeck(browser, deck)
+    try:
+        page = d.ready()
+        plots = page.evaluate("""() => [...document.querySelectorAll('.plotly-graph-div')].map(g =>
+          { const s = g.closest('.reveal .slides section:not(.stack)'); const i = Reveal.getIndices(s);
+            return {id: g.id, h: i.h, v: i.v || 0}; })""")
+        assert plots, f"{deck.name}: no plotly figure in the deck"
+        for p in plots:
+            slides.goto(page, p["h"], p["v"])
+            sel = f'#{p["id"]}'
+            before, after = drag_turns(page, sel)
+            assert _eye_moved(before, after) > 0.05, f"{deck.name} {sel}: dragging did not turn it"
+            fit = page.evaluate("""(sel) => { const g = document.querySelector(sel).getBoundingClientRect();
+              const s = document.querySelector('.reveal .slides').getBoundingClientRect();
+              return {w: g.width, h: g.height, inside: g.bottom <= s.bottom + 1 && g.right <= s.right + 1}; }""",
+                                sel)
+            assert fit["inside"], f"{deck.name} {sel}: the figure runs outside its slide: {fit}"
+            assert fit["w"] >= 0.5 * slides.WIDTH or fit["h"] >= 0.5 * slides.HEIGHT, fit
+            screenshot(page, shots / f"{p['id']}.png")
+        assert not d.blocked, d.blocked
+        assert not d.errors, d.errors
+    finally:
+        d.close()
+
+
+@pytest.fixture(scope="module")
+def fixture_deck(tmp_path_factory):
+    try:
+        (deck,) = slides.build(tmp_path_factory.mktemp("deck"), [FIXTURE])
+    except SystemExit as e:
+        pytest.skip(str(e))
+    return deck
+
+
+@pytest.mark.browser
+def test_fixture_deck_loads_plotly_once_and_turns(browser, fixture_deck):
+    page = fixture_deck.read_text()
+    assert page.count(f'src="{slides.VENDOR_DIR}/{vendor.PLOTLY_JS}"') == 1
+    assert (fixture_deck.parent / slides.VENDOR_DIR / vendor.PLOTLY_JS).is_file()
+    _check_deck(browser, fixture_deck, SHOTS / "deck")
+
+
+@pytest.mark.browser
+def test_fixture_deck_report_counts_one_figure_with_alt(browser, fixture_deck):
+    d = slides.OfflineDeck(browser, fixture_deck)
+    try:
+        d.ready()
+        m = slides.measure_open(d)
+    finally:
+        d.close()
+    first = m["slides"][0]
+    assert len(first["figures"]) == 1, first["figures"]
+    assert first["figures"][0]["alt"].startswith("A body frame"), first["figures"]
+
+
+@pytest.mark.browser
+@pytest.mark.parametrize("path", TURNABLE, ids=lambda p: p.stem)
+def test_course_deck_figure_turns(browser, path, tmp_path):
+    if not _plotly_cells(read(path)):
+        pytest.fail(f"{path.name} has no figure the learner turns yet")
+    try:
+        (deck,) = slides.build(slides.OUT, [path])
+    except SystemExit as e:
+        pytest.skip(str(e))
+    _check_deck(browser, deck, SHOTS / path.stem)
+
+
+# --- the book -------------------------------------------------------------------------------
+
+def _book_page(browser, page_path, shots):
+    off = Offline(browser)
+    try:
+        page = off.new_page()
+        page.goto(page_path.as_uri())
+        ids = page.evaluate("() => [...document.querySelectorAll('.plotly-graph-div')].map(g => g.id)")
+        assert ids, f"{page_path.name}: no plotly figure on the page"
+        for i in ids:
+            before, after = drag_turns(page, f"#{i}")
+            assert _eye_moved(before, after) > 0.05, f"{page_path.name} #{i}: dragging did not turn it"
+            screenshot(page, shots / f"{i}.png")
+        assert page.evaluate("() => !!window.Plotly")
+        assert not off.problems(), off.problems()
+    finally:
+        off.context.close()
+
+
+@pytest.fixture(scope="module")
+def fixture_book(tmp_path_factory):
+    """The fixture notebook as a one-page Jupyter Book, with the book's own configuration."""
+    from jupyter_book.sphinx import build_sphinx
+    tmp = tmp_path_factory.mktemp("book")
+    src, out = tmp / "src", tmp / "out"
+    static = src / "course_static"
+    static.mkdir(parents=True)
+    shutil.copy(FIXTURE, src / FIXTURE.name)
+    (src / "index.md").write_text("# Fixture\n\nOne page with a figure to turn.\n")
+    shutil.copy(book.STATIC / "course.css", static / "course.css")
+    try:
+        vendor.install(static / "vendor", ["mathjax3"])
+    except SystemExit as e:
+        pytest.skip(str(e))
+    vendor.install_plotly(static / "vendor")
+    config = book.book_config(plotly=True)
+    js = config["sphinx"]["config"]["html_js_files"]
+    config["sphinx"]["config"]["html_js_files"] = [f"vendor/{vendor.PLOTLY_JS}" if "plotly" in j else j
+                                                   for j in js]
+    (src / "_config.yml").write_text(yaml.safe_dump(config, sort_keys=False))
+    toc = {"format": "jb-book", "root": "index", "chapters": [{"file": FIXTURE.stem}]}
+    (src / "_toc.yml").write_text(yaml.safe_dump(toc, sort_keys=False))
+    result = build_sphinx(str(src), str(out), noconfig=True, path_config=str(src / "_config.yml"),
+                          confoverrides={"external_toc_path": (src / "_toc.yml").as_posix(),
+                                         "latex_individualpages": False},
+                          doctreedir=str(tmp / "doctrees"), builder="html", quiet=True,
+                          keep_going=True)
+    assert not result, f"the fixture book did not build ({result})"
+    book.postprocess(out)  # the book's own HTML pass (thebe's duplicate script goes)
+    return out / f"{FIXTURE.stem}.html"
+
+
+@pytest.mark.browser
+def test_fixture_book_page_turns(browser, fixture_book):
+    html = fixture_book.read_text()
+    assert "plotly.min.js" in html and "cdn.plot.ly" not in html
+    assert ALT_FIXTURE_START in html
+    _book_page(browser, fixture_book, SHOTS / "book")
+
+
+ALT_FIXTURE_START = "A body frame (red x, green y, blue z arrows)"
+
+
+@pytest.mark.browser
+@pytest.mark.parametrize("path", TURNABLE, ids=lambda p: p.stem)
+def test_course_book_page_turns(browser, path):
+    """Reads the built book (`make book`; tests/test_book.py builds it too)."""
+    page = book.OUT / f"{path.stem}.html"
+    if not _plotly_cells(read(path)):
+        pytest.fail(f"{path.name} has no figure the learner turns yet")
+    if not page.is_file() or page.stat().st_mtime < path.stat().st_mtime:
+        pytest.skip(f"build/book/{page.name} is missing or older than the notebook: run `make book`")
+    _book_page(browser, page, SHOTS / f"book-{path.stem}")
+
+
+def test_fixture_notebook_is_executed_and_deterministic():
+    nb = nbformat.read(str(FIXTURE), as_version=4)
+    (i, cell, out), = _plotly_cells(nb)
+    assert 'id="so3-fixture-rotating-frame"' in out["data"]["text/html"]
+    assert len(out["data"][PLOTLY_MIME]["frames"]) == 21

@@ -119,7 +119,9 @@ def new_3d_figure(title, radius=1.2, height=PLOTLY_HEIGHT):
     z, the given title, and fonts that read on a projected slide (16 px and up)."""
     import plotly.graph_objects as go
 
-    axis = {"range": [-radius, radius], "autorange": False, "tickfont": {"size": 13}}
+    axis = {"range": [-radius, radius], "autorange": False, "tickfont": {"size": 13},
+            "backgroundcolor": "white", "showbackground": True, "gridcolor": "#dddddd",
+            "zerolinecolor": "#aaaaaa", "linecolor": "#888888"}
     fig = go.Figure()
     fig.update_layout(
         title={"text": title, "x": 0.02, "y": 0.97, "font": {"size": 20}},
@@ -131,8 +133,9 @@ def new_3d_figure(title, radius=1.2, height=PLOTLY_HEIGHT):
                "yaxis": {**axis, "title": {"text": "y"}},
                "zaxis": {**axis, "title": {"text": "z"}},
                "aspectmode": "cube",
-               "camera": {"eye": {"x": 1.5, "y": 1.3, "z": 0.9}}},
-        template="plotly_white",
+               "camera": {"eye": {"x": 1.2, "y": 1.05, "z": 0.7}}},
+        template="none",  # no plotly theme stored in the notebook: the styling is here
+        paper_bgcolor="white",
     )
     return fig
 
@@ -159,6 +162,13 @@ def frame_traces(R, origin=(0.0, 0.0, 0.0), length=1.0, name="frame", showlegend
     return traces
 
 
+def _same(a, b):
+    try:
+        return bool(np.array_equal(np.asarray(a), np.asarray(b)))
+    except (TypeError, ValueError):
+        return a == b
+
+
 def time_slider(fig, frames, labels, prefix, duration=80):
     """Animate ``fig``: ``frames`` is a list of lists of traces (each replaces the figure's
     first traces), ``labels`` the slider's value at each frame (e.g. "0.50"), ``prefix``
@@ -169,7 +179,16 @@ def time_slider(fig, frames, labels, prefix, duration=80):
     if len(frames) != len(labels) or not frames:
         raise ValueError(f"time_slider expects one label per frame, got {len(frames)} frames "
                          f"and {len(labels)} labels")
-    fig.frames = [go.Frame(data=list(data), name=str(label), traces=list(range(len(data))))
+    # a frame changes only what differs from the figure's own traces (their style stays)
+    first = [t.to_plotly_json() for t in frames[0]]
+
+    def changed(trace, base):
+        d = trace.to_plotly_json()
+        return type(trace)({k: v for k, v in d.items()
+                            if k in ("type", "x", "y", "z") or not _same(v, base.get(k))})
+
+    fig.frames = [go.Frame(data=[changed(t, b) for t, b in zip(data, first)], name=str(label),
+                           traces=list(range(len(data))))
                   for data, label in zip(frames, labels)]
     step_args = {"mode": "immediate", "frame": {"duration": 0, "redraw": True},
                  "transition": {"duration": 0}}
@@ -190,6 +209,24 @@ def time_slider(fig, frames, labels, prefix, duration=80):
     )
     fig.update_layout(margin={"b": 90})
     return fig
+
+
+def _compact(obj):
+    """The figure's JSON, smaller: arrays of 8 numbers or fewer as plain lists (rounded to 7
+    digits), longer float arrays in single precision (7 digits: far finer than a pixel)."""
+    import base64
+
+    if isinstance(obj, dict):
+        if set(obj) >= {"bdata", "dtype"} and obj["dtype"] == "f8":
+            arr = np.frombuffer(base64.b64decode(obj["bdata"]), dtype="<f8")
+            if arr.size <= 8 and np.isfinite(arr).all() and "shape" not in obj:
+                return [float(f"{v:.7g}") for v in arr]
+            return {**obj, "dtype": "f4",
+                    "bdata": base64.b64encode(arr.astype("<f4").tobytes()).decode()}
+        return {k: _compact(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_compact(v) for v in obj]
+    return obj
 
 
 def _plotly_html(fig_json, div_id, alt, height):
@@ -249,7 +286,7 @@ def show_3d(fig, name, alt):
         raise ValueError(f"show_3d expects a plotly figure, got {type(fig).__name__}")
     if fig.layout.height is None:
         fig.update_layout(height=PLOTLY_HEIGHT)
-    fig_json = json.loads(pio.to_json(fig, validate=True))  # plain JSON: lists, base64 arrays
+    fig_json = _compact(json.loads(pio.to_json(fig, validate=True)))  # lists, base64 arrays
     spec = {"data": fig_json.get("data", []), "layout": fig_json.get("layout", {}),
             "config": PLOTLY_CONFIG}
     if fig_json.get("frames"):

@@ -212,8 +212,9 @@ def time_slider(fig, frames, labels, prefix, duration=80):
 
 
 def _compact(obj):
-    """The figure's JSON, smaller: arrays of 8 numbers or fewer as plain lists (rounded to 7
-    digits), longer float arrays in single precision (7 digits: far finer than a pixel)."""
+    """The figure's JSON, smaller: arrays of 8 numbers or fewer and lists of floats as plain
+    lists rounded to 7 digits, longer float arrays in single precision (7 digits too: far
+    finer than a pixel)."""
     import base64
 
     if isinstance(obj, dict):
@@ -225,6 +226,8 @@ def _compact(obj):
                     "bdata": base64.b64encode(arr.astype("<f4").tobytes()).decode()}
         return {k: _compact(v) for k, v in obj.items()}
     if isinstance(obj, list):
+        if obj and all(isinstance(v, float) for v in obj):
+            return [float(f"{v:.7g}") for v in obj]
         return [_compact(v) for v in obj]
     return obj
 

@@ -62,6 +62,35 @@ def test_calling_log_is_noticed():
     for student in (lambda w, t: log(exp(w, t), t), lambda w, t: so3lib.log(exp(w, t), t),
                     nested):
         _assert_not_yet(check_wrapped_velocity(student), "calls log")
+
+
+def test_calling_log_by_any_road_is_noticed():
+    # A local import, an attribute chain through so3lib.so3, a name built at run time, and
+    # SciPy's logarithms (Rotation.as_rotvec, logm) are refused too.
+    import scipy.linalg
+    from scipy.spatial.transform import Rotation
+
+    import so3lib
+
+    def local_import(w, t):
+        from so3lib import exp, log
+        return log(exp(w, t), t)
+
+    def module_alias(w, t):
+        import so3lib.so3 as m
+        return m.log(exp(w, t), t)
+
+    def built_name(w, t):
+        return getattr(so3lib, "lo" + "g")(exp(w, t), t)
+
+    for student in (local_import, module_alias, built_name,
+                    lambda w, t: so3lib.so3.log(exp(w, t), t),
+                    lambda w, t: Rotation.from_matrix(exp(w, t)).as_rotvec() / t,
+                    lambda w, t: so3lib.vee(scipy.linalg.logm(exp(w, t)).real) / t):
+        _assert_not_yet(check_wrapped_velocity(student), "calls log")
+    # the library and SciPy are left as they were
+    assert so3lib.log is so3lib.so3.log and so3lib.so3.log.__name__ == "log"
+    assert Rotation.as_rotvec.__name__ == "as_rotvec" and scipy.linalg.logm.__name__ == "logm"
     # np.log, or a local variable named log, is not so3lib's log
     assert check_wrapped_velocity(lambda w, t, log=None: _wrapped(w, t))
 
@@ -104,5 +133,6 @@ def test_the_module_holds_no_answer():
     # Only the checker is public, and no function of the module returns a velocity.
     public = [n for n, f in inspect.getmembers(errata, inspect.isfunction)
               if f.__module__ == errata.__name__]
-    assert sorted(public) == ["_calls_log", "_fail", "_judge", "check_wrapped_velocity"]
+    assert sorted(public) == ["_call_logging", "_calls_log", "_fail", "_forbidden", "_judge",
+                              "_package", "check_wrapped_velocity"]
     assert errata.__all__ == ["check_wrapped_velocity"]

@@ -15,10 +15,11 @@ principal angle, ``|v| |tau| <= pi``. It names the usual mistakes and never prin
 expected answer.
 """
 
-import numpy as np
-
+import contextlib
 import dis
 import types
+
+import numpy as np
 
 from .. import so3
 from ..so3 import exp
@@ -55,33 +56,79 @@ def _fail(why, hint=_HINT):
     return Feedback(False, f"Not yet: wrapped_velocity. {why}" + (f"\nHint: {hint}" if hint else ""))
 
 
+def _forbidden():
+    """The logarithms the exercise asks not to call: so3lib's ``log`` (however it is
+    reached), SciPy's ``Rotation.as_rotvec`` and ``scipy.linalg.logm``."""
+    import scipy.linalg
+    from scipy.spatial.transform import Rotation
+    return [(so3, "log"), (_package(), "log"), (Rotation, "as_rotvec"), (scipy.linalg, "logm")]
+
+
+def _package():
+    import so3lib
+    return so3lib
+
+
 def _calls_log(func):
-    """True if ``func`` (or a function defined inside it) looks up so3lib's ``log``: a name
-    bound to it (global or from an enclosing function), or the attribute ``log`` of a
-    name bound to a module whose ``log`` it is."""
+    """True if the code of ``func`` (or of a function defined inside it) names a logarithm
+    it must not call: a name bound to one of :func:`_forbidden` (global, from an enclosing
+    function, or imported inside it with ``from so3lib... import log``), or an attribute
+    chain such as ``so3lib.so3.log`` that leads to one. Calls that the code hides from this
+    reading (``as_rotvec`` on a SciPy rotation, ``getattr``) are caught by
+    :func:`_call_logging` while the function runs."""
     code = getattr(func, "__code__", None)
     if not isinstance(code, types.CodeType):
         return False
+    bad = [getattr(owner, name) for owner, name in _forbidden()]
     env = dict(getattr(func, "__globals__", {}))
     for name, cell in zip(code.co_freevars, getattr(func, "__closure__", None) or ()):
         try:
             env[name] = cell.cell_contents
         except ValueError:          # an empty cell
             pass
-    loads = ("LOAD_GLOBAL", "LOAD_NAME", "LOAD_DEREF", "LOAD_CLOSURE")
+    loads = ("LOAD_GLOBAL", "LOAD_NAME", "LOAD_DEREF", "LOAD_CLOSURE", "LOAD_FAST")
     todo = [code]
     while todo:
         c = todo.pop()
         todo += [k for k in c.co_consts if isinstance(k, types.CodeType)]
-        prev = None
+        obj, module = None, ""
         for ins in dis.get_instructions(c):
-            if ins.opname in loads and ins.argval == "log" and env.get("log") is so3.log:
+            if ins.opname == "IMPORT_NAME":
+                module = str(ins.argval)
+            elif ins.opname == "IMPORT_FROM":
+                if ins.argval in ("log", "logm") and module.split(".")[0] in ("so3lib", "scipy"):
+                    return True
+                if ins.argval == "as_rotvec":
+                    return True
+            if ins.opname in loads and ins.opname != "LOAD_FAST":
+                obj = env.get(ins.argval)
+            elif ins.opname in ("LOAD_ATTR", "LOAD_METHOD") and obj is not None:
+                obj = getattr(obj, ins.argval, None)
+            else:
+                obj = None
+            if obj is not None and any(obj is b for b in bad):
                 return True
-            if ins.opname in ("LOAD_ATTR", "LOAD_METHOD") and ins.argval == "log" \
-                    and prev is not None and getattr(env.get(prev), "log", None) is so3.log:
-                return True
-            prev = ins.argval if ins.opname in loads else None
     return False
+
+
+@contextlib.contextmanager
+def _call_logging(calls):
+    """While inside, every call of a :func:`_forbidden` logarithm through its module or
+    class is appended to ``calls`` (and still answered)."""
+    saved = []
+    for owner, name in _forbidden():
+        orig = getattr(owner, name)
+
+        def spy(*args, _orig=orig, _name=name, **kwargs):
+            calls.append(_name)
+            return _orig(*args, **kwargs)
+        saved.append((owner, name, orig))
+        setattr(owner, name, spy)
+    try:
+        yield calls
+    finally:
+        for owner, name, orig in reversed(saved):
+            setattr(owner, name, orig)
 
 
 def _judge(v, omega, tau):
@@ -115,16 +162,24 @@ def check_wrapped_velocity(func):
         return _fail(_NOT_ANSWERED, None)
     if not callable(func):
         return _fail(f"Expected a function, got a {type(func).__name__}.", None)
+    calls_log = _fail("It calls log (or another logarithm: SciPy's as_rotvec or logm): the "
+                      "exercise asks you to predict what log returns from phi = omega tau "
+                      "alone, without calling it.")
     if _calls_log(func):
-        return _fail("It calls log: the exercise asks you to predict what log returns from "
-                     "phi = omega tau alone, without calling it.")
+        return calls_log
     for label, (omega, tau) in _WRAP_CASES:
+        calls = []
         try:
-            got = func(omega.copy(), tau)
+            with _call_logging(calls):
+                got = func(omega.copy(), tau)
         except NotImplementedError:
             return _fail("Not written yet: the function still raises NotImplementedError.", None)
         except Exception as err:  # noqa: BLE001 -- a checker never raises
+            if calls:
+                return calls_log
             return _fail(f"Calling it on {label} raised {type(err).__name__}: {err}")
+        if calls:
+            return calls_log
         if got is None:
             return _fail(f"It returned None on {label}: is the `return` missing?", None)
         try:

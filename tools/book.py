@@ -213,10 +213,10 @@ at a constant angular velocity $\omega$ for a time $\tau$ gives the rotation
 
 $$
 R(\omega, \tau) = e^{{\tau\hat\omega}} = I + \frac{{\sin\theta}}{{\theta}}\,\tau\hat\omega
-  + \frac{{1-\cos\theta}}{{\theta^2}}\,(\tau\hat\omega)^2, \qquad \theta = \lVert\omega\rVert\,\lvert\tau\rvert,
+  + \frac{{1-\cos\theta}}{{\theta^2}}\,(\tau\hat\omega)^2,
 $$
 
-and the logarithm goes back from $R$ to $\omega$. The course derives both from the power
+where $\theta = \lVert\omega\rVert\,\lvert\tau\rvert$ is the angle turned, and the logarithm goes back from $R$ to $\omega$. The course derives both from the power
 series, computes them in floating point without losing digits, takes the logarithm at
 exactly 180°, and shows where its two sources (a set of lecture notes and Gallier's
 textbook) go wrong.
@@ -256,9 +256,8 @@ def _plotly_js():
     return js if js.is_file() else None
 
 
-def book_config(repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL, plotly=False):
+def book_config(repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
     """Jupyter Book's _config.yml, as a dict."""
-    js_files = ["vendor/plotly.min.js"] if plotly else []
     return {
         "title": BOOK_TITLE,
         "author": "the course authors",
@@ -297,7 +296,6 @@ def book_config(repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL, pl
                 },
                 "html_static_path": ["course_static"],
                 "html_css_files": ["course.css"],
-                "html_js_files": js_files,
                 "html_sourcelink_suffix": "",
                 "html_show_search_summary": False,  # summaries fetch each page: not from file://
                 "html_last_updated_fmt": None,
@@ -356,7 +354,7 @@ def prepare(src=SOURCE, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB
         _write_if_changed(static / "vendor" / "plotly.min.js", plotly.read_bytes())
     if (NOTEBOOKS / "images").is_dir():
         shutil.copytree(NOTEBOOKS / "images", src / "images", dirs_exist_ok=True)
-    config = book_config(repository_url, jupyterhub_url, plotly=bool(plotly))
+    config = book_config(repository_url, jupyterhub_url)
     _write_if_changed(src / "_config.yml", yaml.safe_dump(config, sort_keys=False))
     _write_if_changed(src / "_toc.yml", yaml.safe_dump(book_toc(paths), sort_keys=False))
     return paths
@@ -439,6 +437,19 @@ def postprocess(out):
                     or (tag.name == "script" and "THEBE_JS_URL" in (tag.string or ""))):
                 tag.decompose()
                 changed = True
+        # A page with a figure the learner turns loads the one copy of plotly.js (4.8 MB):
+        # the figure's own script draws it once the page has loaded (so3lib.plot.show_3d).
+        plotly_js = Path(out) / "_static" / "vendor" / "plotly.min.js"
+        if (soup.select_one("div.plotly-graph-div") and plotly_js.exists()
+                and not soup.select_one("script[data-course-plotly]")):
+            soup.head.append(soup.new_tag("script", attrs={
+                "src": plotly_js.relative_to(out).as_posix(), "data-course-plotly": ""}))
+            changed = True
+        # The figure holds buttons and a slider, which role="img" would hide from a screen
+        # reader (axe: nested-interactive); "figure" keeps its label and its controls.
+        for div in soup.select('div.plotly-graph-div[role="img"]'):
+            div["role"] = "figure"
+            changed = True
         # myst-nb's collapsed input: its summary's text ("Show code cell source") is its name.
         for summary in soup.select("summary[aria-label]"):
             del summary["aria-label"]

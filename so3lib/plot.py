@@ -243,10 +243,10 @@ def _plotly_html(fig_json, div_id, alt, height):
                        default_width="100%", default_height=f"{height}px")
     label = html.escape(alt, quote=True)
     body = body.replace(f'<div id="{div_id}" class="plotly-graph-div"',
-                        f'<div id="{div_id}" class="plotly-graph-div course-plotly" role="img" '
+                        f'<div id="{div_id}" class="plotly-graph-div course-plotly" role="figure" '
                         f'aria-label="{label}"', 1)
     guard = f'if (document.getElementById("{div_id}")) {{'
-    if guard not in body or 'role="img"' not in body:
+    if guard not in body or 'role="figure"' not in body:
         raise RuntimeError("plotly's HTML changed shape: so3lib.plot.show_3d needs updating")
     fallback = json.dumps("Interactive figure (needs plotly.js): " + alt)
     body = body.replace(guard, f'if (!window.Plotly) {{ document.getElementById("{div_id}")'
@@ -267,7 +267,8 @@ def show_3d(fig, name, alt):
     ``name`` (lower-case letters, digits, "-" and "_") makes the div id ``so3-<name>``, fixed
     so that re-running the notebook gives the same bytes (strict nbval); use a name once per
     notebook. ``alt`` says in words what the figure shows, for a reader who cannot see it:
-    it labels the figure (aria-label) and is the text output. Put the same sentence in the
+    it labels the figure (aria-label on a div of role "figure", which keeps the figure's
+    buttons and slider reachable) and is the text output. Put the same sentence in the
     cell's ``metadata.mystnb.image.alt``, as for any figure (tests/test_interactive.py
     checks that they agree).
 

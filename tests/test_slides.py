@@ -346,3 +346,25 @@ def test_hang_code_keeps_pygments_spans_per_line():
     assert '--ind:4ch' in out and '--ind:0ch' in out
     # a string token across a newline is closed and reopened on the next line
     assert out.count('<span class="s2">') == 2
+
+
+def test_plotly_js_loaded_once_only_by_decks_with_a_turnable_figure(small_deck, tmp_path):
+    """A deck with a so3lib.plot.show_3d figure loads the one vendored plotly.js, before
+    require.js; a deck without one (the small deck) does not load it at all."""
+    from tools import vendor
+    assert "plotly.min.js" not in small_deck[0].read_text()
+    nb = new_notebook(cells=[
+        _meta(new_markdown_cell("## A figure to turn"), "slide"),
+        _meta(new_code_cell("show_3d(fig, 'x', ALT)", outputs=[new_output("display_data", data={
+            slides.PLOTLY_MIME: {"data": [], "layout": {}},
+            "text/html": '<div id="so3-x" class="plotly-graph-div"></div>',
+            "text/plain": "Interactive 3-D figure"})]), "-"),
+    ])
+    path = tmp_path / "98_plotly.ipynb"
+    nbformat.write(nb, str(path))
+    (deck,) = _build(slides.build, tmp_path / "slides", [path])
+    page = deck.read_text()
+    src = f'src="{slides.VENDOR_DIR}/{vendor.PLOTLY_JS}"'
+    assert page.count(src) == 1
+    assert page.index(src) < page.index("require.js")
+    assert (deck.parent / slides.VENDOR_DIR / vendor.PLOTLY_JS).stat().st_size > 1_000_000

@@ -596,7 +596,8 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
                 return print_pdf(site, pdf, browser)
             finally:
                 browser.close()
-    context = browser.new_context(viewport={"width": 1000, "height": 1400})
+    # about the width of the printed column, so that figures are laid out for the paper
+    context = browser.new_context(viewport={"width": 690, "height": 1000})
     try:
         context.route("**/*", lambda r: r.continue_() if r.request.url.startswith(
             ("file:", "data:", "about:", "blob:")) else r.abort())
@@ -607,6 +608,9 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
         page.evaluate("MathJax.startup.promise")
         page.add_style_tag(content=PRINT_CSS)
         page.emulate_media(media="print")
+        # the 3-D figures take the printed column's width (plotly lays them out on load)
+        page.evaluate("""() => Promise.all([...document.querySelectorAll('.plotly-graph-div')]
+                         .map(d => window.Plotly ? Plotly.Plots.resize(d) : null))""")
         titles = page.evaluate(PRINT_PREPARE, None)
         options = dict(format="A4", print_background=True, outline=True, tagged=True,
                        display_header_footer=True, header_template=header,

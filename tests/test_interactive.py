@@ -341,3 +341,67 @@ def test_fixture_notebook_is_executed_and_deterministic():
     (i, cell, out), = _plotly_cells(nb)
     assert 'id="so3-fixture-rotating-frame"' in out["data"]["text/html"]
     assert len(out["data"][PLOTLY_MIME]["frames"]) == 21
+
+
+# --- JupyterLab, with no kernel -----------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def jupyterlab(tmp_path_factory):
+    """JupyterLab serving a copy of the fixture notebook, with no kernel it could start
+    (the only allowed kernelspec does not exist): yields its URL."""
+    import socket
+    import subprocess
+    import sys
+    import time
+    import urllib.request
+    root = tmp_path_factory.mktemp("lab")
+    shutil.copy(FIXTURE, root / FIXTURE.name)
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "jupyterlab", "--allow-root", "--no-browser", f"--port={port}",
+         "--ip=127.0.0.1", f"--ServerApp.root_dir={root}", "--ServerApp.token=",
+         "--ServerApp.password=", "--LabApp.news_url=None",
+         "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate",
+         "--KernelSpecManager.allowed_kernelspecs={'no-such-kernel'}"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=root)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        for _ in range(120):
+            try:
+                urllib.request.urlopen(f"{url}/api/status", timeout=1)
+                break
+            except OSError:
+                time.sleep(0.5)
+        else:
+            pytest.skip("JupyterLab did not start within a minute")
+        yield url
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+
+
+@pytest.mark.browser
+def test_jupyterlab_draws_and_turns_with_no_kernel(browser, jupyterlab):
+    """The notebook opened in JupyterLab with "No Kernel": the plotly renderer draws the
+    stored figure (with its 21 animation frames) from the notebook alone, nothing is
+    fetched from the network, and a drag turns it."""
+    off = Offline(browser, allowed=(jupyterlab, jupyterlab.replace("http", "ws"), "data:",
+                                    "about:", "blob:"))
+    try:
+        page = off.new_page()
+        page.goto(f"{jupyterlab}/lab/tree/{FIXTURE.name}")
+        page.locator("button:has-text('No Kernel')").first.click(timeout=90_000)
+        page.wait_for_selector(".js-plotly-plot", timeout=60_000)
+        before, after = drag_turns(page, ".js-plotly-plot")
+        assert _eye_moved(before, after) > 0.05, "dragging did not turn the figure in JupyterLab"
+        frames = page.evaluate("() => document.querySelector('.js-plotly-plot')._transitionData._frames.length")
+        assert frames == 21
+        screenshot(page, SHOTS / "jupyterlab" / "fixture.png")
+        assert not off.blocked, off.blocked
+    finally:
+        off.context.close()

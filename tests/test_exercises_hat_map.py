@@ -110,16 +110,66 @@ def _student(a, p):
 
 
 def _fitted(a, p):
-    # a matrix power and a least-squares fit: the exercise allows it, the property holds
+    # a matrix power and a least-squares fit: the property holds, the method is not the formula
     H = so3lib.hat(a)
     basis = np.stack([np.eye(3).ravel(), H.ravel(), (H @ H).ravel()], axis=1)
     return np.linalg.lstsq(basis, np.linalg.matrix_power(H, p).ravel(), rcond=None)[0]
 
 
+def _read_off(a, p):
+    # the dot-product read-off of the notebook's figure, on a matrix power
+    H = np.cross(np.eye(3), a)
+    M, H2 = np.linalg.matrix_power(H, p), H @ H
+    if p == 0:
+        return (1.0, 0.0, 0.0)
+    return (0.0, np.sum(M * H) / np.sum(H * H), np.sum(M * H2) / np.sum(H2 * H2))
+
+
+def _nested(a, p):
+    power = lambda H: np.linalg.matrix_power(H, p)   # noqa: E731 -- hidden in a lambda
+    return _read_off(a, p) if power is None else _fitted(a, p)
+
+
+def _loop_of_products(a, p):
+    # a hand-built hat(a) and a loop of @: the one matrix route the checker cannot see
+    a = np.asarray(a, dtype=float)
+    H = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    M = np.eye(3)
+    for _ in range(p):
+        M = M @ H
+    if p == 0:
+        return (1.0, 0.0, 0.0)
+    H2 = H @ H
+    return (0.0, np.sum(M * H) / np.sum(H * H), np.sum(M * H2) / np.sum(H2 * H2))
+
+
 def test_power_coefficients_right_answers_pass():
-    for func in (_student, _fitted):
-        fb = check_power_coefficients(func)
-        assert fb and repr(fb).startswith("Correct: power_coefficients"), repr(fb)
+    fb = check_power_coefficients(_student)
+    assert fb and repr(fb).startswith("Correct: power_coefficients"), repr(fb)
+    assert "p = 400" in repr(fb)
+
+
+@pytest.mark.parametrize("student, names", [
+    (_fitted, "hat, lstsq, matrix_power"),
+    (_read_off, "cross, matrix_power"),
+    (_nested, "matrix_power"),
+])
+def test_power_coefficients_refuses_a_matrix_route(student, names):
+    _says(check_power_coefficients(student), "power_coefficients",
+          f"calls {names}(.|\n)*asks for the formula")
+
+
+def test_power_coefficients_cannot_see_a_loop_of_products():
+    # documented limit (the task says so): only named matrix routes are refused
+    assert check_power_coefficients(_loop_of_products)
+
+
+def test_power_coefficients_tests_a_large_power():
+    def right_only_up_to_12(a, p):
+        c = _student(a, p)
+        return c if p <= 12 else tuple(-np.asarray(c, dtype=float))
+    _says(check_power_coefficients(right_only_up_to_12), "power_coefficients",
+          r"power_coefficients\(\[0\.6, 0\. , 0\.8\], 400\)(.|\n)*p = 400 is even")
 
 
 def _forgets_identity(a, p):

@@ -15,7 +15,9 @@ exercise       the learner writes                         checker
 Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises. A checker
 holds no answer: it tests the defining property of what the learner hands in (``S`` is
 symmetric, ``K`` skew and ``S + K = M``; ``c hat(a)`` equals ``hat(a)^5`` multiplied out
-with a matrix power) and never prints the value it is looking for. When an answer is
+with a matrix power) and never prints the value it is looking for. The checker of 1.3
+also refuses code that calls a matrix route (``matrix_power``, ``lstsq``, ...), since the
+exercise asks for the formula. When an answer is
 wrong it names the usual mistake it matches, with a hint.
 """
 
@@ -211,6 +213,22 @@ def _power_hint(p):
             "a multiple of hat(a)^2 only (c0 = c1 = 0). Note |a|^(2k) = (a @ a)**k.")
 
 
+#: Names whose use means the matrix power is computed, not the formula (exercise 1.3).
+_MATRIX_ROUTE = frozenset({"matrix_power", "matmul", "lstsq", "hat", "cross", "expm"})
+
+
+def _matrix_route(func):
+    """The names of :data:`_MATRIX_ROUTE` that ``func``'s code (and any code object nested
+    in it: inner functions, lambdas, comprehensions) refers to; empty if none or no code."""
+    code = getattr(func, "__code__", None)
+    found, todo = set(), [code] if code is not None else []
+    while todo:
+        c = todo.pop()
+        found |= _MATRIX_ROUTE & set(c.co_names)
+        todo.extend(k for k in c.co_consts if hasattr(k, "co_names"))
+    return found
+
+
 @never_raises("power_coefficients")
 def check_power_coefficients(func):
     r"""Exercise 1.3: ``func(a, p)`` must return ``(c0, c1, c2)`` with
@@ -218,30 +236,42 @@ def check_power_coefficients(func):
 
     The defining property is tested directly: ``c0 I + c1 hat(a) + c2 hat(a)^2`` against
     ``np.linalg.matrix_power(hat(a), p)``, relative to the size of the power, for
-    ``p = 1, ..., 12`` and then ``p = 0``, on two vectors of different length. It stops at
-    the first wrong answer with a hint for that ``p``.
+    ``p = 1, ..., 12`` and then ``p = 0``, on two vectors of different length, and then for
+    ``p = 400`` on ``a = (0.6, 0, 0.8)``. It stops at the first wrong answer with a hint
+    for that ``p``.
+
+    The exercise asks for the formulas (1.7) and (1.8), so a function whose code (or the
+    code of a function defined inside it) names a matrix route, ``matrix_power``,
+    ``matmul``, ``lstsq``, ``hat``, ``cross`` or ``expm``, is refused. A hand-written loop
+    of ``@`` products is not seen: ``@`` is also how ``a @ a`` computes ``|a|^2``.
     """
     name = "power_coefficients"
+    used = _matrix_route(func)
+    if used:
+        return _fail(name, f"Your code calls {', '.join(sorted(used))}: that computes the "
+                           "matrix power, and the exercise asks for the formula.",
+                     "Use (1.7) and (1.8): only the number |a|^2 = a @ a and the parity "
+                     "of p are needed.")
     vectors = (np.array([1.0, 2.0, 3.0]), np.array([0.5, -1.0, 0.25]))
-    order = list(range(1, 13)) + [0]
-    for p in order:
-        for a in vectors:
-            shown = f"power_coefficients({np.array2string(a, separator=', ')}, {p})"
-            got, fb = _call(func, name, (a, p), shown, _power_hint(p))
-            if fb is not None:
-                return fb
-            problem = _shape_problem(got, (3,), f"On {shown}, the answer")
-            if problem:
-                return _fail(name, problem, "Return three numbers, (c0, c1, c2).")
-            c = np.asarray(got, dtype=float)
-            H = hat(a)
-            power = np.linalg.matrix_power(H, p)
-            combo = c[0] * np.eye(3) + c[1] * H + c[2] * (H @ H)
-            size = max(1.0, float(np.abs(power).max()))
-            off = float(np.abs(combo - power).max()) / size
-            if off > 1e-10:
-                return _fail(name, f"On {shown}, c0 I + c1 hat(a) + c2 hat(a)^2 differs from "
-                                   f"hat(a)^{p} (a matrix power) by {off:.2g} relative to "
-                                   "its largest entry.", _power_hint(p))
+    cases = [(p, a) for p in list(range(1, 13)) + [0] for a in vectors]
+    cases.append((400, np.array([0.6, 0.0, 0.8])))     # |a|^2 = 1 exactly in floats
+    for p, a in cases:
+        shown = f"power_coefficients({np.array2string(a, separator=', ')}, {p})"
+        got, fb = _call(func, name, (a, p), shown, _power_hint(p))
+        if fb is not None:
+            return fb
+        problem = _shape_problem(got, (3,), f"On {shown}, the answer")
+        if problem:
+            return _fail(name, problem, "Return three numbers, (c0, c1, c2).")
+        c = np.asarray(got, dtype=float)
+        H = hat(a)
+        power = np.linalg.matrix_power(H, p)
+        combo = c[0] * np.eye(3) + c[1] * H + c[2] * (H @ H)
+        size = max(1.0, float(np.abs(power).max()))
+        off = float(np.abs(combo - power).max()) / size
+        if off > 1e-10:
+            return _fail(name, f"On {shown}, c0 I + c1 hat(a) + c2 hat(a)^2 differs from "
+                               f"hat(a)^{p} (a matrix power) by {off:.2g} relative to "
+                               "its largest entry.", _power_hint(p))
     return Feedback(True, f"Correct: {name}. c0 I + c1 hat(a) + c2 hat(a)^2 equals the matrix "
-                          "power for p = 0, ..., 12 and two vectors a.")
+                          "power for p = 0, ..., 12 and two vectors a, and for p = 400.")

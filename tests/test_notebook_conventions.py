@@ -110,3 +110,19 @@ def test_every_figure_has_alt_text(nb):
 def test_notebook_file_stays_small(path):
     size = path.stat().st_size
     assert size < 1.5e6, f"{path.name} is {size / 1e6:.2f} MB; keep each notebook under 1.5 MB"
+
+
+def _has_picture(cell):
+    return any(kind in o.get("data", {}) for o in cell.get("outputs", [])
+               for kind in ("image/png", "image/svg+xml", "application/vnd.plotly.v1+json"))
+
+
+def test_a_picture_every_dozen_cells(nb):
+    """style.md: a learner meets a picture every few cells, never more than 12 without one."""
+    runs, start = [], 0
+    for i, cell in enumerate(list(nb.cells) + [None]):
+        if cell is None or _has_picture(cell):
+            if i - start > 12:
+                runs.append(f"cells {start}-{i - 1}")
+            start = i + 1
+    assert not runs, f"runs of more than 12 cells without a picture: {', '.join(runs)}"

@@ -214,7 +214,7 @@ def _power_hint(p):
 
 
 #: Names whose use means the matrix power is computed, not the formula (exercise 1.3).
-_MATRIX_ROUTE = frozenset({"matrix_power", "matmul", "lstsq", "hat", "cross", "expm"})
+_MATRIX_ROUTE = frozenset({"matrix_power", "lstsq", "hat", "cross", "expm"})
 
 
 def _matrix_route(func):
@@ -242,8 +242,9 @@ def check_power_coefficients(func):
 
     The exercise asks for the formulas (1.7) and (1.8), so a function whose code (or the
     code of a function defined inside it) names a matrix route, ``matrix_power``,
-    ``matmul``, ``lstsq``, ``hat``, ``cross`` or ``expm``, is refused. A hand-written loop
-    of ``@`` products is not seen: ``@`` is also how ``a @ a`` computes ``|a|^2``.
+    ``lstsq``, ``hat``, ``cross`` or ``expm``, is refused. A hand-written loop of ``@``
+    products is not seen, nor is ``matmul``: ``a @ a`` (or ``np.matmul(a, a)``) is also how
+    the formula computes ``|a|^2``.
     """
     name = "power_coefficients"
     used = _matrix_route(func)

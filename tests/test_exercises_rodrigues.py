@@ -182,6 +182,17 @@ def test_B_wrong_answers_get_a_message(student, pattern):
     _says(fb, "B_stable", pattern)
 
 
+@pytest.mark.parametrize("student, t_shown", [
+    (_taylor_below(1e-2), r"0\.0049"),            # 2.7e-11 relative at t = 0.0099
+    (_taylor_below(0.1, terms=3), r"0\.099"),     # 4.9e-11 relative at t = 0.0999
+])
+def test_B_refuses_a_Taylor_branch_kept_just_too_long(student, t_shown):
+    fb = check_B(student)
+    _says(fb, "B_stable", r"B_stable\(-?" + t_shown + r"\)(.|\n)*Taylor polynomial")
+    text = repr(fb)
+    assert "expected" not in text and "0.49" not in text, text
+
+
 def test_B_message_shows_no_expected_value():
     text = repr(check_B(_taylor_below(0.45)))
     assert "expected" not in text and "0.49" not in text, text

@@ -211,6 +211,11 @@ def check_naive_B_digits(answer):
 # middle range (1e-3 to 0.45) catches a Taylor polynomial used too far out.
 _B_INPUTS = [1.0, 2.5, -0.5, 1e-8, 1e-5, 1e-3, 0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.45,
              -0.7, 1e-300, 30.0]
+# then a dense sweep of both signs, 1e-4 to 1 (steps of 17%), and the points just below
+# the round switch-overs: a Taylor branch kept up to 0.01 or 0.1 is off by 3e-11 or 5e-11
+# just below it, which the coarse list above misses
+_B_INPUTS += [0.0049, 0.0099, 0.049, 0.099, -0.0049, -0.0099, -0.049, -0.099]
+_B_INPUTS += [float(s * t) for t in np.geomspace(1e-4, 1.0, 60) for s in (1, -1)]
 _B_RTOL = 1e-12
 
 _B_HINT = ("Avoid the subtraction 1 - cos(t) for small t: use the half-angle form "
@@ -228,8 +233,12 @@ def _diagnose_B(got, t):
         return ("This is the naive (1 - cos t)/t^2. Near t = 0, cos(t) rounds to a number "
                 "next to 1 and the subtraction cancels almost every digit (at t = 1e-8 it "
                 "gives 0). " + _B_HINT)
-    if t != 0 and (_close(got, taylor, atol=0, rtol=1e-15) or
-                   _close(got, taylor3, atol=0, rtol=1e-15)):
+    if t != 0 and _close(got, taylor3, atol=0, rtol=1e-15) and taylor3 != taylor:
+        return ("A Taylor polynomial here: its error is about its first left-out term, "
+                "t^6/40320 for 1/2 - t^2/24 + t^4/720 (relative t^6/20160), which is above "
+                "1e-12 once |t| > 0.05. Use it only below that, and the half-angle form "
+                "elsewhere.")
+    if t != 0 and _close(got, taylor, atol=0, rtol=1e-15):
         return ("A Taylor polynomial here: its error is about its first left-out term, "
                 "t^4/720 for 1/2 - t^2/24 (relative t^4/360), which is above 1e-12 once "
                 "|t| > 4e-3. Use it only below that, and the half-angle form elsewhere.")
@@ -246,7 +255,8 @@ def check_B(func):
 
     Compares with the library's ``so3lib.B`` at ``t`` from 1 down to 1e-8, then ``t = 0``
     (where ``B = 1/2``), the middle range 0.01 to 0.45 (where a Taylor polynomial kept
-    too long fails), ``1e-300`` and ``t = 30``. A wrong value gets its relative error and
+    too long fails), ``1e-300`` and ``t = 30``, then just below the round switch-overs
+    0.005, 0.01, 0.05, 0.1 and at 60 values of each sign from 1e-4 to 1. A wrong value gets its relative error and
     the usual mistake it matches. A function that is, or calls, ``so3lib.B`` (which the
     exercise rules out) is turned down.
     """
@@ -269,5 +279,5 @@ def check_B(func):
             return _fail(name, f"{shown} has a relative error of {rel:.1e}; the exercise asks "
                                f"for {_B_RTOL:.0e}.", _diagnose_B(got, t) or _B_HINT)
     return Feedback(True, f"Correct: {name}. It is accurate to 1e-12 (relative) at "
-                          f"{len(_B_INPUTS)} values of t, from 0 and 1e-300 through the middle "
-                          "range to 30.")
+                          f"{len(_B_INPUTS)} values of t, from 0 and 1e-300 through a dense "
+                          "sweep of the middle range to 30.")

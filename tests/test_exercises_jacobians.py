@@ -76,6 +76,8 @@ def test_right_jacobian_mistakes(answer, pattern):
      "Only small t.*cancels"),
     (lambda t: 1 / 6 - t * t / 120, "Only larger t.*series used too far"),
     (lambda t: c_stable(abs(t)) * (1 if t >= 0 else -1), "C is even"),
+    (lambda t: 1 / 6 - t * t / 120 if abs(t) < 0.002 else (t - math.sin(t)) / t**3,
+     "Only small t.*cancels"),
 ])
 def test_C_stable_mistakes(answer, pattern):
     says_for(check_C_stable(answer), "C_stable", pattern)
@@ -90,6 +92,15 @@ def test_C_stable_mistakes(answer, pattern):
 ])
 def test_body_jacobian_mistakes(answer, pattern):
     says_for(check_body_jacobian(answer), "body_jacobian", pattern)
+
+
+def test_C_stable_threshold_too_low_is_refused():
+    """Two series terms up to 0.002, the written form above: 5.6e-11 relative at 0.0025."""
+    def early(t):
+        return 1 / 6 - t * t / 120 if abs(t) < 0.002 else (t - math.sin(t)) / t**3
+    fb = check_C_stable(early)
+    assert not fb
+    assert "Only small t" in fb.message and "0.1666" not in fb.message
 
 
 def test_messages_never_show_the_expected_value():

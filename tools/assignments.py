@@ -43,7 +43,7 @@ from pathlib import Path
 import nbformat
 from nbformat.v4 import new_code_cell
 
-from tools.common import BUILD, NOTEBOOKS, ROOT, course_notebooks, inside, read
+from tools.common import BUILD, build_target, course_notebooks, read
 
 COURSE = BUILD / "coursework"
 COURSE_ID = "so3-exp-log"
@@ -299,14 +299,6 @@ def source_notebook(nb, path="notebook"):
     return out, found
 
 
-def _check_target(out):
-    out = Path(out).resolve()
-    if inside(NOTEBOOKS, out) or inside(out, NOTEBOOKS):
-        raise SystemExit(f"refusing to write the coursework into or over {NOTEBOOKS}")
-    if inside(out, ROOT) and not inside(out, BUILD):
-        raise SystemExit(f"the coursework goes under {BUILD}, or outside the course folder")
-    return out
-
 
 def write_config(course, timeout=DEFAULT_TIMEOUT):
     course = Path(course)
@@ -336,7 +328,7 @@ def build(out=COURSE, notebooks=None, release=True, log=print):
     Earlier source/ and release/ folders are replaced; the gradebook and any submitted,
     autograded and feedback folders are kept.
     """
-    out = _check_target(out)
+    out = build_target(out, "the coursework")
     out.mkdir(parents=True, exist_ok=True)
     write_config(out)
     for sub in ("source", "release"):

@@ -42,6 +42,17 @@ def inside(path, directory):
     return path == directory or directory in path.parents
 
 
+def build_target(out, what):
+    """OUT resolved, after refusing a folder that would overwrite the course's notebooks or
+    scatter WHAT (e.g. "the student edition") through the course folder outside build/."""
+    out = Path(out).resolve()
+    if inside(NOTEBOOKS, out) or inside(out, NOTEBOOKS):
+        raise SystemExit(f"refusing to write {what} into or over {NOTEBOOKS}")
+    if inside(out, ROOT) and not inside(out, BUILD):
+        raise SystemExit(f"{what} goes under {BUILD}, or outside the course folder")
+    return out
+
+
 _NB_LINK = re.compile(r'href="([0-9A-Z][0-9]_[A-Za-z0-9_]+)\.ipynb(#[^"]*)?"')
 
 

@@ -24,7 +24,7 @@ from pathlib import Path
 import nbformat
 from nbformat.v4 import new_markdown_cell
 
-from tools.common import BUILD, NOTEBOOKS, ROOT, course_notebooks, inside, read
+from tools.common import BUILD, ROOT, build_target, course_notebooks, read
 
 SOLUTION_TAG = "solution"
 HIDDEN_TAG = "hidden-test"
@@ -89,18 +89,10 @@ def strip(nb):
     return nb
 
 
-def _check_target(out):
-    out = Path(out).resolve()
-    if inside(NOTEBOOKS, out) or inside(out, NOTEBOOKS):
-        raise SystemExit(f"refusing to write the student edition into or over {NOTEBOOKS}")
-    if inside(out, ROOT) and not inside(out, BUILD):
-        raise SystemExit(f"the student edition goes under {BUILD}, or outside the course folder")
-    return out
-
 
 def build(out=BUILD / "student", notebooks=None):
     """Write the student edition into OUT (replacing an earlier one); returns its notebooks."""
-    out = _check_target(out)
+    out = build_target(out, "the student edition")
     if out.exists():
         shutil.rmtree(out)
     (out / "notebooks").mkdir(parents=True)

@@ -202,7 +202,7 @@ def time_slider(fig, frames, labels, prefix, duration=80):
                                            "fromcurrent": True}]},
                           {"label": "❚❚ pause", "method": "animate",
                            "args": [[None], step_args]}]}],
-        sliders=[{"active": 0, "x": 0.27, "len": 0.73, "y": 0.0, "yanchor": "top",
+        sliders=[{"active": 0, "x": 0.27, "len": 0.69, "y": 0.0, "yanchor": "top",
                   "pad": {"t": 8}, "currentvalue": {"prefix": prefix, "font": {"size": 18}},
                   "steps": [{"label": str(label), "method": "animate",
                              "args": [[str(label)], step_args]} for label in labels]}],

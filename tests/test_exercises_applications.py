@@ -112,6 +112,11 @@ def _right_side(Rs, times, t):
     return exp(log(Rs[i].T @ Rs[i + 1]), u) @ Rs[i]
 
 
+def _not_divided(Rs, times, t):
+    i = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
+    return Rs[i] @ exp(log(Rs[i].T @ Rs[i + 1]), t - times[i])
+
+
 def test_keyframes_right_answers_pass():
     fb = check_keyframes(_keyframe_path)
     assert fb and repr(fb).startswith("Correct: keyframe_path")
@@ -129,6 +134,7 @@ def test_keyframes_right_answers_pass():
     (_equal_spacing, "equally spaced"),
     (_right_side, "on the right"),
     (lambda Rs, times, t: Rs[0], "jumps from keyframe to keyframe|at a keyframe"),
+    (_not_divided, "divide it by the segment's duration"),
     (lambda Rs, times, t: 2 * _keyframe_path(Rs, times, t), "not a rotation"),
     (lambda Rs, times, t: _keyframe_path(Rs, times, t) @ exp([0.0, 0.0, 0.01]), "rad away"),
 ])
@@ -174,9 +180,18 @@ def test_steps_needed_cases_are_far_from_rounding():
 def test_steps_needed_right_answers_pass():
     fb = check_steps_needed(_steps_needed)
     assert fb and repr(fb).startswith("Correct: steps_needed")
-    # the prediction, rounded up, is also right on these cases (it is checked, not trusted)
-    assert check_steps_needed(lambda v, T, tol: math.ceil((v * T) ** 2 / (2 * math.log1p(tol))))
     assert check_steps_needed(lambda v, T, tol: float(_steps_needed(v, T, tol)))
+
+
+def _predicted(v, T, tol):
+    return math.ceil((v * T) ** 2 / (2 * math.log1p(tol)))
+
+
+def test_steps_needed_a_case_where_the_prediction_is_one_too_many():
+    # the prediction alone is an approximation: on one case it overshoots by one step
+    assert any(_predicted(*args) == _steps_needed(*args) + 1
+               for _, args in applications._STEPS_CASES)
+    assert any(_predicted(*args) == _steps_needed(*args) for _, args in applications._STEPS_CASES)
 
 
 @pytest.mark.parametrize("student, says", [
@@ -192,6 +207,7 @@ def test_steps_needed_right_answers_pass():
     (lambda v, T, tol: _steps_needed(v, T, 2 * tol + tol**2), "too small"),
     (lambda v, T, tol: _steps_needed(v, T, np.sqrt(1 + tol) - 1), "squared length"),
     (lambda v, T, tol: 10**6, "smallest N"),
+    (_predicted, "the prediction .* rounded up"),
 ])
 def test_steps_needed_wrong_answers_get_a_message(student, says):
     fb = check_steps_needed(student)

@@ -161,6 +161,9 @@ def _judge_keyframes(got, args):
                 "the body at R_i, so R_i goes on the left.")
     if _close(got, Ra @ exp(step, 1 - u), 1e-8):
         return "the segment runs backwards: at t = t_i the path must be at R_i."
+    if times[i + 1] - times[i] != 1 and _close(got, Ra @ exp(step, t - times[i]), 1e-8):
+        return ("you used t - t_i as the fraction of the segment: divide it by the "
+                "segment's duration t_(i+1) - t_i.")
     if _close(got, Ra, 1e-8) or _close(got, Rb, 1e-8):
         return ("your path jumps from keyframe to keyframe instead of turning between "
                 "them.")
@@ -182,9 +185,11 @@ def check_keyframes(func):
 # --- 5.2 how many Euler steps keep the body's size -------------------------------------
 
 # (speed in rad/s, T in s, tol): each margin from 1 + tol is far above rounding (tests).
+# In the second, the prediction theta^2 / (2 ln(1 + tol)) rounded up is one step too many.
 _STEPS_CASES = [
     ("speed 2 rad/s for 10 s, tol = 0.01", (2.0, 10.0, 0.01)),
     ("speed 1 rad/s for 1 s, tol = 0.1", (1.0, 1.0, 0.1)),
+    ("speed 1 rad/s for 3 s, tol = 0.5", (1.0, 3.0, 0.5)),
     ("speed pi rad/s for 2 s, tol = 0.001", (np.pi, 2.0, 0.001)),
     ("speed 0.5 rad/s for 4 s, tol = 0.5", (0.5, 4.0, 0.5)),
     ("speed 3 rad/s for 0.1 s, tol = 0.01", (3.0, 0.1, 0.01)),
@@ -213,6 +218,10 @@ def _judge_steps(got, args):
         if _euler_length(speed, T, N) ** 2 <= 1 + tol < _euler_length(speed, T, N - 1) ** 2:
             return ("this keeps the squared length within 1 + tol; the exercise asks for "
                     "the length.")
+        if N == int(np.ceil((speed * T) ** 2 / (2 * np.log1p(tol)))):
+            return ("this is the prediction theta^2 / (2 ln(1 + tol)) rounded up, and here "
+                    "N - 1 steps already keep the length within 1 + tol. The prediction "
+                    "is an approximation: measure the length after N - 1 steps too.")
         return ("fewer steps than your N already keep the length within 1 + tol: the "
                 "smallest N is asked for.")
     return None

@@ -5,17 +5,17 @@ exercise       the learner writes                          checker
 =============  ==========================================  ============================
 2.1            ``partial_sum(omega, tau, terms)``: the     :func:`check_partial_sum`
                first ``terms`` terms of the series
-2.2            ``t_8_digits``: the ``t`` at which the      :func:`check_naive_B_digits`
-               naive ``(1 - cos t)/t^2`` keeps only 8
+2.2            ``x_8_digits``: the ``x`` at which the      :func:`check_naive_B_digits`
+               naive ``(1 - cos x)/x^2`` keeps only 8
                correct digits (predicted, then measured)
-2.3            ``B_stable(t) = (1 - cos t)/t^2``,          :func:`check_B`
-               accurate at every ``t``, ``B(0) = 1/2``
+2.3            ``B_stable(x) = (1 - cos x)/x^2``,          :func:`check_B`
+               accurate at every ``x``, ``B(0) = 1/2``
 =============  ==========================================  ============================
 
 Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises, and none
 prints the value it is looking for. 2.1 and 2.3 compare with the library's own
 ``exp_series`` and ``B`` (the course's library, not an answer key); 2.2 measures the
-property asked for (the naive formula's error near the learner's ``t``, against a
+property asked for (the naive formula's error near the learner's ``x``, against a
 high-precision reference). When an answer is wrong, the checker compares it with the
 usual mistakes (one term too many, an element-by-element power, the naive ``1 - cos``,
 a Taylor polynomial used too far out) and names the one it matches.
@@ -137,76 +137,76 @@ def check_partial_sum(func):
 
 # ---------------------------------------------------------------- exercise 2.2
 
-def _naive_B_error(ts):
-    """Relative error of the naive float64 ``(1 - cos t)/t^2`` at each ``t`` of ``ts``.
+def _naive_B_error(xs):
+    """Relative error of the naive float64 ``(1 - cos x)/x^2`` at each ``x`` of ``xs``.
 
     The reference is the same formula in mpmath, with 30 digits beyond the ones the
-    subtraction cancels (about ``-2 log10 t``), rounded once.
+    subtraction cancels (about ``-2 log10 x``), rounded once.
     """
-    ts = np.asarray(ts, dtype=float)
+    xs = np.asarray(xs, dtype=float)
     with np.errstate(all="ignore"):
-        naive = (1.0 - np.cos(ts)) / ts ** 2
-    errors = np.empty_like(ts)
-    for i, t in enumerate(ts):
-        digits = 30 + max(0, int(-2 * math.log10(t)))
+        naive = (1.0 - np.cos(xs)) / xs ** 2
+    errors = np.empty_like(xs)
+    for i, x in enumerate(xs):
+        digits = 30 + max(0, int(-2 * math.log10(x)))
         with mpmath.workdps(digits):
-            m = mpmath.mpf(float(t))
+            m = mpmath.mpf(float(x))
             ref = float((1 - mpmath.cos(m)) / m ** 2)
         errors[i] = abs(naive[i] - ref) / ref
     return errors
 
 
 #: What "keeps only 8 digits" means to the checker: the worst relative error of the naive
-#: B over the window [t/1.25, 1.25 t] lies between 10^-8.5 and 10^-7.5.
+#: B over the window [x/1.25, 1.25 x] lies between 10^-8.5 and 10^-7.5.
 DIGITS_WINDOW = 1.25
 DIGITS_BAND = (10 ** -8.5, 10 ** -7.5)
 
-_DIGITS_HINT = ("Predict first: cos t is rounded to a float, off by up to half a spacing "
-                "(eps/4 just below 1), and 1 - cos t is about t^2/2. So the relative error "
-                "of (1 - cos t)/t^2 is about (eps/4)/(t^2/2). Set that to 1e-8 and solve for t; "
-                "then measure with B_ref around your t.")
+_DIGITS_HINT = ("Predict first: cos x is rounded to a float, off by up to half a spacing "
+                "(eps/4 just below 1), and 1 - cos x is about x^2/2. So the relative error "
+                "of (1 - cos x)/x^2 is about (eps/4)/(x^2/2). Set that to 1e-8 and solve for x; "
+                "then measure with B_ref around your x.")
 
 
-@never_raises("t_8_digits")
+@never_raises("x_8_digits")
 def check_naive_B_digits(answer):
-    r"""Exercise 2.2: the ``t`` near which the naive :math:`(1 - \cos t)/t^2` keeps 8 digits.
+    r"""Exercise 2.2: the ``x`` near which the naive :math:`(1 - \cos x)/x^2` keeps 8 digits.
 
     Measures the property itself: the worst relative error of the naive formula in float64
-    over 201 points of ``[t/1.25, 1.25 t]``, against a high-precision reference, must lie
+    over 201 points of ``[x/1.25, 1.25 x]``, against a high-precision reference, must lie
     within half a digit of ``1e-8`` (between ``10^-8.5`` and ``10^-7.5``). The message says
-    how many digits the naive formula keeps at the learner's ``t``.
+    how many digits the naive formula keeps at the learner's ``x``.
     """
-    name = "t_8_digits"
+    name = "x_8_digits"
     if answer is None or answer is Ellipsis:
         return _fail(name, _NOT_ANSWERED)
     try:
-        t = float(np.asarray(answer, dtype=float))
+        x = float(np.asarray(answer, dtype=float))
     except Exception:  # noqa: BLE001 -- a checker never raises
-        return _fail(name, f"The answer should be one number t; got a {type(answer).__name__}.",
+        return _fail(name, f"The answer should be one number x; got a {type(answer).__name__}.",
                      _DIGITS_HINT)
-    if not math.isfinite(t) or t <= 0:
-        return _fail(name, f"t should be a positive angle in radians; got {t!r}.", _DIGITS_HINT)
-    if t > 1.0:
-        return _fail(name, f"At t = {t:.3g} the naive formula is accurate to about 16 digits: "
-                           "no cancellation there. Look at small t.", _DIGITS_HINT)
-    if t < 1e-9:
-        return _fail(name, f"At t = {t:.3g}, cos t rounds to exactly 1 and the naive formula "
-                           "returns 0: no correct digit left. Look at larger t.", _DIGITS_HINT)
-    worst = float(_naive_B_error(np.geomspace(t / DIGITS_WINDOW, t * DIGITS_WINDOW, 201)).max())
+    if not math.isfinite(x) or x <= 0:
+        return _fail(name, f"x should be a positive angle in radians; got {x!r}.", _DIGITS_HINT)
+    if x > 1.0:
+        return _fail(name, f"At x = {x:.3g} the naive formula is accurate to about 16 digits: "
+                           "no cancellation there. Look at small x.", _DIGITS_HINT)
+    if x < 1e-9:
+        return _fail(name, f"At x = {x:.3g}, cos x rounds to exactly 1 and the naive formula "
+                           "returns 0: no correct digit left. Look at larger x.", _DIGITS_HINT)
+    worst = float(_naive_B_error(np.geomspace(x / DIGITS_WINDOW, x * DIGITS_WINDOW, 201)).max())
     digits = -math.log10(worst) if worst > 0 else 17.0
     lo, hi = DIGITS_BAND
     if lo <= worst <= hi:
-        return Feedback(True, f"Correct: {name}. Near t = {t:.3g} the naive B's worst relative "
+        return Feedback(True, f"Correct: {name}. Near x = {x:.3g} the naive B's worst relative "
                               f"error is {worst:.1e}: about {digits:.1f} correct digits.")
-    side = ("more than 8 digits survive there: the t is too large"
-            if worst < lo else "fewer than 8 digits survive there: the t is too small")
-    return _fail(name, f"Near t = {t:.3g} the naive B's worst relative error is {worst:.1e} "
+    side = ("more than 8 digits survive there: the x is too large"
+            if worst < lo else "fewer than 8 digits survive there: the x is too small")
+    return _fail(name, f"Near x = {x:.3g} the naive B's worst relative error is {worst:.1e} "
                        f"(about {digits:.1f} correct digits): {side}.", _DIGITS_HINT)
 
 
 # ---------------------------------------------------------------- exercise 2.3
 
-# Simplest first; the small angles come before t = 0 so that the naive formula is caught
+# Simplest first; the small angles come before x = 0 so that the naive formula is caught
 # by its visible failure (0 instead of 0.5 at 1e-8) before its division by zero; the
 # middle range (1e-3 to 0.45) catches a Taylor polynomial used too far out.
 _B_INPUTS = [1.0, 2.5, -0.5, 1e-8, 1e-5, 1e-3, 0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.45,
@@ -215,47 +215,47 @@ _B_INPUTS = [1.0, 2.5, -0.5, 1e-8, 1e-5, 1e-3, 0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0
 # the round switch-overs: a Taylor branch kept up to 0.01 or 0.1 is off by 3e-11 or 5e-11
 # just below it, which the coarse list above misses
 _B_INPUTS += [0.0049, 0.0099, 0.049, 0.099, -0.0049, -0.0099, -0.049, -0.099]
-_B_INPUTS += [float(s * t) for t in np.geomspace(1e-4, 1.0, 60) for s in (1, -1)]
+_B_INPUTS += [float(s * x) for x in np.geomspace(1e-4, 1.0, 60) for s in (1, -1)]
 _B_RTOL = 1e-12
 
-_B_HINT = ("Avoid the subtraction 1 - cos(t) for small t: use the half-angle form "
-           "2 sin(t/2)^2 / t^2, and return the limit 1/2 at t = 0 (a Taylor polynomial "
+_B_HINT = ("Avoid the subtraction 1 - cos(x) for small x: use the half-angle form "
+           "2 sin(x/2)^2 / x^2, and return the limit 1/2 at x = 0 (a Taylor polynomial "
            "is fine too, but only where its first left-out term is below 1e-12 of B).")
 
 
-def _diagnose_B(got, t):
+def _diagnose_B(got, x):
     with np.errstate(all="ignore"):
-        t64 = np.float64(t)
-        naive = (1.0 - np.cos(t64)) / t64 ** 2
-        taylor = 0.5 - t64 ** 2 / 24.0
-        taylor3 = taylor + t64 ** 4 / 720.0
-    if t != 0 and _close(got, naive, atol=0, rtol=1e-15):
-        return ("This is the naive (1 - cos t)/t^2. Near t = 0, cos(t) rounds to a number "
-                "next to 1 and the subtraction cancels almost every digit (at t = 1e-8 it "
+        x64 = np.float64(x)
+        naive = (1.0 - np.cos(x64)) / x64 ** 2
+        taylor = 0.5 - x64 ** 2 / 24.0
+        taylor3 = taylor + x64 ** 4 / 720.0
+    if x != 0 and _close(got, naive, atol=0, rtol=1e-15):
+        return ("This is the naive (1 - cos x)/x^2. Near x = 0, cos(x) rounds to a number "
+                "next to 1 and the subtraction cancels almost every digit (at x = 1e-8 it "
                 "gives 0). " + _B_HINT)
-    if t != 0 and _close(got, taylor3, atol=0, rtol=1e-15) and taylor3 != taylor:
+    if x != 0 and _close(got, taylor3, atol=0, rtol=1e-15) and taylor3 != taylor:
         return ("A Taylor polynomial here: its error is about its first left-out term, "
-                "t^6/40320 for 1/2 - t^2/24 + t^4/720 (relative t^6/20160), which is above "
-                "1e-12 once |t| > 0.05. Use it only below that, and the half-angle form "
+                "x^6/40320 for 1/2 - x^2/24 + x^4/720 (relative x^6/20160), which is above "
+                "1e-12 once |x| > 0.05. Use it only below that, and the half-angle form "
                 "elsewhere.")
-    if t != 0 and _close(got, taylor, atol=0, rtol=1e-15):
+    if x != 0 and _close(got, taylor, atol=0, rtol=1e-15):
         return ("A Taylor polynomial here: its error is about its first left-out term, "
-                "t^4/720 for 1/2 - t^2/24 (relative t^4/360), which is above 1e-12 once "
-                "|t| > 4e-3. Use it only below that, and the half-angle form elsewhere.")
-    if t != 0 and _close(got, math.sin(t) / t):
-        return "That is A(t) = sin(t)/t, the other coefficient. B(t) = (1 - cos t)/t^2."
-    if t != 0 and _close(got, (1 - math.cos(t)) / t):
-        return "The denominator is t^2, not t."
+                "x^4/720 for 1/2 - x^2/24 (relative x^4/360), which is above 1e-12 once "
+                "|x| > 4e-3. Use it only below that, and the half-angle form elsewhere.")
+    if x != 0 and _close(got, math.sin(x) / x):
+        return "That is A(x) = sin(x)/x, the other coefficient. B(x) = (1 - cos x)/x^2."
+    if x != 0 and _close(got, (1 - math.cos(x)) / x):
+        return "The denominator is x^2, not x."
     return None
 
 
 @never_raises("B_stable")
 def check_B(func):
-    r"""Exercise 2.3: ``func(t)`` must give :math:`B(t) = (1 - \cos t)/t^2` to 1e-12 relative.
+    r"""Exercise 2.3: ``func(x)`` must give :math:`B(x) = (1 - \cos x)/x^2` to 1e-12 relative.
 
-    Compares with the library's ``so3lib.B`` at ``t`` from 1 down to 1e-8, then ``t = 0``
+    Compares with the library's ``so3lib.B`` at ``x`` from 1 down to 1e-8, then ``x = 0``
     (where ``B = 1/2``), the middle range 0.01 to 0.45 (where a Taylor polynomial kept
-    too long fails), ``1e-300`` and ``t = 30``, then just below the round switch-overs
+    too long fails), ``1e-300`` and ``x = 30``, then just below the round switch-overs
     0.005, 0.01, 0.05, 0.1 and at 60 values of each sign from 1e-4 to 1. A wrong value gets its relative error and
     the usual mistake it matches. A function that is, or calls, ``so3lib.B`` (which the
     exercise rules out) is turned down.
@@ -265,19 +265,19 @@ def check_B(func):
         fb = _forbidden(func, B, name, "B")
         if fb is not None:
             return fb
-    for t in _B_INPUTS:
-        shown = f"B_stable({t:g})"
-        got, fb = _call(func, name, (t,), shown, _B_HINT)
+    for x in _B_INPUTS:
+        shown = f"B_stable({x:g})"
+        got, fb = _call(func, name, (x,), shown, _B_HINT)
         if fb is not None:
             return fb
         problem = _shape_problem(got, (), f"{shown}")
         if problem:
             return _fail(name, problem, "Return one float.")
-        ref = float(B(t))
+        ref = float(B(x))
         rel = abs(float(got) - ref) / ref
         if rel > _B_RTOL:
             return _fail(name, f"{shown} has a relative error of {rel:.1e}; the exercise asks "
-                               f"for {_B_RTOL:.0e}.", _diagnose_B(got, t) or _B_HINT)
+                               f"for {_B_RTOL:.0e}.", _diagnose_B(got, x) or _B_HINT)
     return Feedback(True, f"Correct: {name}. It is accurate to 1e-12 (relative) at "
-                          f"{len(_B_INPUTS)} values of t, from 0 and 1e-300 through a dense "
+                          f"{len(_B_INPUTS)} values of x, from 0 and 1e-300 through a dense "
                           "sweep of the middle range to 30.")

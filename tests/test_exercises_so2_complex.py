@@ -47,13 +47,36 @@ def test_so2_log_plain_arctan2_is_caught_on_minus_zero():
     (3, "Expected a function"),
     (lambda R: np.array([1.0, 2.0]), r"has shape \(2,\); expected shape \(\)"),
     (lambda R: np.nan, "NaN or inf"),
-    (lambda R: np.arccos(R[0, 0]), r"cannot tell \+alpha from -alpha"),
+    (lambda R: np.arccos(R[0, 0]), r"sign of alpha is lost \(arccos"),
     (lambda R: np.arctan(R[1, 0] / R[0, 0]), "second quadrant from the\\s+fourth"),
     (lambda R: np.degrees(np.arctan2(R[1, 0], R[0, 0])), "degrees"),
     (lambda R: "angle", "not a number"),
 ])
 def test_so2_log_wrong_answers_get_a_message(student, says):
     _says(check_so2_log(student), says)
+
+
+def test_so2_log_refuses_so2_log_however_it_is_reached():
+    """The task says "not so2.log": a call by the module, by a name imported before the
+    checker ran, or so2.log itself handed in, is refused; the answer's right value does
+    not save it."""
+    from so3lib.so2 import log as imported_log
+    for student in (so2.log, lambda R: so2.log(R), lambda R: float(imported_log(R)),
+                    lambda R: getattr(so2, "l" + "og")(R)):
+        fb = check_so2_log(student)
+        assert not fb
+        _says(fb, "so2.log")
+    # np.log is not so2.log: a complex logarithm from the entries is the learner's own
+    def from_complex_log(R):
+        a = np.log(complex(R[0, 0], R[1, 0])).imag
+        return np.pi if a == -np.pi else a
+    assert check_so2_log(from_complex_log)
+
+
+def test_so2_log_flipped_sign_and_complex_answers_get_their_own_hint():
+    _says(check_so2_log(lambda R: np.arctan2(R[0, 1], R[0, 0])), r"sign is flipped\. R\[0, 1\]")
+    _says(check_so2_log(lambda R: np.abs(np.arctan2(R[1, 0], R[0, 0]))), "sign of alpha is lost")
+    _says(check_so2_log(lambda R: np.log(complex(R[0, 0], R[1, 0]))), "returned a complex number")
 
 
 def test_so2_log_wrapping_is_required():
@@ -85,6 +108,15 @@ def test_varying_rate_right_answer_passes():
 ])
 def test_varying_rate_wrong_answers_get_a_message(answer, says):
     _says(check_varying_rate(answer), says)
+
+
+def test_varying_rate_near_miss_gives_the_size_not_the_angle():
+    """An angle a little off would print as the answer's own (3 rad to four digits); the
+    message gives the size of the miss instead. A complex number gets its own message."""
+    alpha = OMEGA0 * T_END + ACCEL * T_END ** 2 / 2
+    text = repr(check_varying_rate(so2.exp(alpha + 1e-6)))
+    assert "off by 9.9e-07" in text and "turns by" not in text, text
+    _says(check_varying_rate(np.exp(1j * alpha)), "complex number.*so2.from_complex")
 
 
 def test_checkers_never_print_the_expected_value():

@@ -3,30 +3,36 @@ r"""Checkers for the exercises of notebook 06 (derivatives of exp: the Jacobians
 ==========================  ==============================================================
 checker                     the exercise
 ==========================  ==============================================================
-``check_right_jacobian``    6.1 ``right_jacobian_formula(phi)``, :math:`J_r(\varphi)` from
-                            the closed form, for :math:`\varphi \ne 0`
+``check_ominus_jacobians``  6.1 ``ominus_jacobians(R1, R0)``, the derivatives of
+                            :math:`R_1 \ominus R_0` in :math:`R_1` and in :math:`R_0`
 ``check_C_stable``          6.2 ``C_stable(t)``, :math:`(t - \sin t)/t^3` to 1e-12
-                            relative at every ``t``, 0 included
+                            relative at every ``t``, 0 included, without ``so3lib.C``
 ``check_body_jacobian``     6.3 ``body_jacobian(phi, b)``, the 3x3 derivative of
                             :math:`e^{-\hat\varphi} b` with respect to :math:`\varphi`
 ==========================  ==============================================================
 
 Each checker returns a :class:`so3lib.exercises.Feedback` and never raises. The function
 exercises are checked through their defining property -- a centred finite difference of
-:func:`so3lib.exp` -- not against a stored answer, and a message names the mistake it
+:func:`so3lib.exp`, or of the logarithm in 50 digits (mpmath) -- not against a stored
+answer, and a message names the mistake it
 recognises (the left Jacobian in place of the right one, a missing term, a cancellation)
 without printing the expected value.
 """
 
+import contextlib
+import dis
 import math
+import types
 
+import mpmath as _mp
 import numpy as np
 
+from .. import jacobians as _jacobians
 from ..jacobians import C as _C_lib
 from ..so3 import exp, hat
 from . import _NOT_ANSWERED, Feedback, _fail, _fmt, _ok, never_raises
 
-__all__ = ["check_C_stable", "check_body_jacobian", "check_right_jacobian"]
+__all__ = ["check_C_stable", "check_body_jacobian", "check_ominus_jacobians"]
 
 _H = 1e-5           # step of the centred differences: truncation ~h^2, rounding ~eps/h
 
@@ -85,61 +91,138 @@ def _close(a, b, tol):
     return float(np.abs(a - b).max()) <= tol
 
 
-# --- 6.1 the right Jacobian ----------------------------------------------------------
+# --- 6.1 the derivatives of ominus ---------------------------------------------------
 
-_PHIS_61 = [
-    ("a quarter turn about z, phi = (0, 0, pi/2)", np.array([0.0, 0.0, math.pi / 2])),
-    ("phi = (0.3, -0.4, 1.2)", np.array([0.3, -0.4, 1.2])),
-    ("phi = (1e-3, 2e-3, -1e-3), a small angle", np.array([1e-3, 2e-3, -1e-3])),
-    ("phi = (2, -1, 2), an angle of 3 rad", np.array([2.0, -1.0, 2.0])),
-    ("phi = (0, 4, 3), an angle of 5 rad, beyond pi", np.array([0.0, 4.0, 3.0])),
-]
-
-
-def _diagnose_61(got, phi, right):
-    K = hat(phi)
-    theta = float(np.linalg.norm(phi))
-    b = (1 - math.cos(theta)) / theta**2
-    if _close(got, _fd_jacobian(phi, "left"), 1e-8):
-        return ("It is the left Jacobian J_l = J_r^T: exp(phi + delta) = exp(J_l delta) "
-                "exp(phi). For J_r the hat(phi) term has a minus sign.")
-    if _close(got, right.T, 1e-8):
-        return "It is the transpose of J_r (that is J_l): check the sign of the hat(phi) term."
-    if _close(got, np.eye(3) - b * K, 1e-8):
-        return "The hat(phi)^2 term, (theta - sin theta)/theta^3 hat(phi)^2, is missing."
-    if _close(got, np.eye(3) - K / 2, 1e-8):
-        return ("That is the first-order truncation I - hat(phi)/2; the closed form sums "
-                "the whole series.")
-    if _close(got, np.eye(3), 1e-8):
-        return "That is the identity: J_r(phi) = I only at phi = 0."
-    return None
+def _pairs_61():
+    """(shown, R1, R0) with R1 = R0 exp(phi): turns |phi| from 1e-3 to 3 rad."""
+    R0 = exp(np.array([0.4, -0.9, 1.3]))
+    phis = [("|R1 (-) R0| = 0.0024 rad", np.array([1e-3, 2e-3, -1e-3])),
+            ("|R1 (-) R0| = 1.3 rad", np.array([0.3, -0.4, 1.2])),
+            ("|R1 (-) R0| = 2.4 rad", np.array([-1.2, 2.0, 0.6])),
+            ("|R1 (-) R0| = 3 rad, near a half-turn", np.array([2.0, -1.0, 2.0]))]
+    return [(shown, R0 @ exp(phi), R0) for shown, phi in phis]
 
 
-@never_raises("right_jacobian_formula")
-def check_right_jacobian(func):
-    r"""Exercise 6.1: ``right_jacobian_formula(phi)`` satisfies
-    :math:`e^{(\varphi + \delta)^\wedge} \approx e^{\hat\varphi} e^{(J\delta)^\wedge}`,
-    column by column against a centred difference of ``exp`` (within 1e-8)."""
-    name = "right_jacobian_formula"
+def _log_mp(M):
+    """Log of a 3x3 mpmath matrix near a rotation with angle in (0, pi), as a list."""
+    v = [(M[2, 1] - M[1, 2]) / 2, (M[0, 2] - M[2, 0]) / 2, (M[1, 0] - M[0, 1]) / 2]
+    s = _mp.sqrt(sum(x * x for x in v))
+    theta = _mp.atan2(s, (M[0, 0] + M[1, 1] + M[2, 2] - 1) / 2)
+    return [theta / s * x for x in v]
+
+
+def _exp_mp(p):
+    th = _mp.sqrt(sum(x * x for x in p))
+    K = _mp.matrix([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
+    return _mp.eye(3) + _mp.sin(th) / th * K + (1 - _mp.cos(th)) / th**2 * K * K
+
+
+def _fd_ominus(R1, R0):
+    """(J1, J0): 50-digit centred differences of Log(R0^T R1 exp(delta)) and of
+    Log((R0 exp(delta))^T R1) in delta, rounded to floats."""
+    with _mp.workdps(50):
+        h = _mp.mpf("1e-20")
+        A, B = _mp.matrix(R0.tolist()), _mp.matrix(R1.tolist())
+        out = []
+        for side in (1, 0):
+            cols = []
+            for j in range(3):
+                steps = []
+                for sign in (1, -1):
+                    E = _exp_mp([sign * h if i == j else _mp.mpf(0) for i in range(3)])
+                    M = A.T * B * E if side == 1 else (A * E).T * B
+                    steps.append(_log_mp(M))
+                cols.append([float((u - d) / (2 * h)) for u, d in zip(*steps)])
+            out.append(np.array(cols).T)
+    return out
+
+
+def _pair(got):
+    """The learner's result as a (2, 3, 3) float array, or a reason why it is not one."""
+    try:
+        arr = np.asarray(got, dtype=float)
+    except (TypeError, ValueError):
+        return None, (f"it returned a {type(got).__name__}, not a number or an array "
+                      "of numbers: a pair (J1, J0) of (3, 3) arrays")
+    if arr.shape != (2, 3, 3):
+        return None, (f"the result has shape {arr.shape}; expected a pair (J1, J0) of "
+                      "(3, 3) arrays, shape (2, 3, 3)")
+    if not np.isfinite(arr).all():
+        return None, "the result contains NaN or inf; look for a division by zero"
+    return arr, None
+
+
+def _diagnose_61(g1, g0, j1, j0):
+    tol = 1e-8
+    if _close(g1, j0, tol) and _close(g0, j1, tol):
+        return "The two are swapped: return (J1, J0), the derivative in R1 first."
+    notes = []
+    if not _close(g1, j1, tol):
+        if _close(g1, np.linalg.inv(j1), tol):
+            notes.append("J1 is J_r(phi), the derivative of exp; R1 (-) R0 is a logarithm, "
+                         "so its derivative is an inverse.")
+        elif _close(g1, j1.T, tol):
+            notes.append("J1 has the perturbation on the wrong side: R0^T (R1 exp(delta)) = "
+                         "exp(phi) exp(delta) puts delta on the right.")
+        elif _close(g1, -j1, tol):
+            notes.append("J1 has the wrong sign: moving R1 forward moves R1 (-) R0 forward.")
+    if not _close(g0, j0, tol):
+        if _close(g0, -j0, tol):
+            notes.append("J0 has the wrong sign: (R0 exp(delta))^T = exp(-delta) R0^T.")
+        elif _close(g0, j0.T, tol):
+            notes.append("J0 has the perturbation on the wrong side: (R0 exp(delta))^T R1 "
+                         "= exp(-delta) exp(phi) puts it on the left.")
+        elif _close(g0, np.linalg.inv(j0), tol) or _close(g0, -np.linalg.inv(j0), tol):
+            notes.append("J0 uses a Jacobian of exp; R1 (-) R0 is a logarithm, so its "
+                         "derivative is an inverse.")
+    if not notes and _close(g1, j1, 1e-6) and _close(g0, j0, 1e-6):
+        notes.append("Close (within 1e-6) but not within 1e-12: finite differences "
+                     "cannot reach the last digits. Use the closed forms of this section.")
+    return " ".join(notes) if notes else None
+
+
+@never_raises("ominus_jacobians")
+def check_ominus_jacobians(func):
+    r"""Exercise 6.1: ``ominus_jacobians(R1, R0)`` returns ``(J1, J0)`` with
+    :math:`\mathrm{Log}(R_0^T R_1 e^{\hat\delta}) \approx \varphi + J_1\delta` and
+    :math:`\mathrm{Log}((R_0e^{\hat\delta})^T R_1) \approx \varphi + J_0\delta`,
+    :math:`\varphi = R_1 \ominus R_0`, checked against 50-digit centred differences of
+    those logarithms (within 1e-12) at four pairs, turns from 2.4e-3 to 3 rad."""
+    name = "ominus_jacobians"
     fb = _start(func, name)
     if fb is not None:
         return fb
-    for shown, phi in _PHIS_61:
-        got, fb = _call(func, name, (phi,), shown, (3, 3))
-        if fb is not None:
-            return fb
-        right = _fd_jacobian(phi, "right")
-        if not _close(got, right, 1e-8):
-            diff = float(np.abs(got - right).max())
-            why = (f"On {shown}, exp(phi) exp(J delta) does not match exp(phi + delta) to "
-                   f"first order: your J differs from the finite-difference Jacobian by "
-                   f"up to {diff:.2g}.")
-            extra = _diagnose_61(got, phi, right)
+    pairs = _pairs_61()
+    for shown, R1, R0 in pairs:
+        try:
+            got = func(R1.copy(), R0.copy())
+        except NotImplementedError:
+            return _fail(name, "Not written yet: the function still raises "
+                               "NotImplementedError.")
+        except Exception as err:  # noqa: BLE001 -- a learner's function may raise anything
+            return _fail(name, f"Calling it on the pair with {shown} raised "
+                               f"{type(err).__name__}: {err}")
+        if got is None:
+            return _fail(name, f"It returned None on the pair with {shown}: is the "
+                               "`return` missing?")
+        arr, why = _pair(got)
+        if arr is None:
+            return _fail(name, f"On the pair with {shown}, {why}.")
+        j1, j0 = _fd_ominus(R1, R0)
+        ok1, ok0 = _close(arr[0], j1, 1e-12), _close(arr[1], j0, 1e-12)
+        if not (ok1 and ok0):
+            wrong = " and ".join(n for n, ok in (("J1", ok1), ("J0", ok0)) if not ok)
+            diff = max(float(np.abs(arr[0] - j1).max()), float(np.abs(arr[1] - j0).max()))
+            verb = "differ" if " and " in wrong else "differs"
+            why = (f"On the pair with {shown}, {wrong} {verb} from the 50-digit "
+                   f"derivative of R1 (-) R0 by up to {diff:.2g} (allowed: 1e-12).")
+            extra = _diagnose_61(arr[0], arr[1], j1, j0)
             return Feedback(False, f"Not yet: {name}. {why}" + (f" {extra}" if extra else "")
-                            + "\nHint: J_r = I - (1 - cos t)/t^2 hat(phi) + "
-                              "(t - sin t)/t^3 hat(phi)^2 with t = |phi|.")
-    return _ok(name, f"exp(phi) exp(J delta) matches exp(phi + delta) to first order on "
-                     f"{len(_PHIS_61)} rotation vectors, from 2.4e-3 rad to 5 rad.")
+                            + "\nHint: write R0^T (R1 exp(delta)) and (R0 exp(delta))^T R1 "
+                              "as exp(phi) times a small rotation, and use the derivatives "
+                              "of Log after (6.9).")
+    return _ok(name, f"(J1, J0) match 50-digit differences of R1 (-) R0 within 1e-12 on "
+                     f"{len(pairs)} pairs, turns from 2.4e-3 to 3 rad.")
 
 
 # --- 6.2 a C without cancellation ----------------------------------------------------
@@ -149,6 +232,67 @@ _TS_62 = [1.0, 0.0, 1e-300, 1e-8, 1e-5, 1e-3, 0.1, 0.9, 1.7, 2.5, math.pi, 4.0, 
 # a log-spaced grid from 1e-3 to 0.1, both signs: where a threshold between the series
 # and the written form goes wrong (either form too far from home)
 _TS_62 += [float(x) for g in np.geomspace(1e-3, 0.1, 25)[1:-1] for x in (g, -g)]
+
+
+def _forbidden_62():
+    """The library's own C, however the learner's code reaches it."""
+    import so3lib
+    return [(so3lib, "C"), (_jacobians, "C")]
+
+
+def _names_C(func):
+    """True if the code of ``func`` (or of a function defined inside it) names so3lib's
+    ``C``: a global, enclosing or imported name bound to it, or an attribute chain such
+    as ``so3lib.jacobians.C`` that leads to it."""
+    code = getattr(func, "__code__", None)
+    if not isinstance(code, types.CodeType):
+        return False
+    env = dict(getattr(func, "__globals__", {}))
+    for name, cell in zip(code.co_freevars, getattr(func, "__closure__", None) or ()):
+        try:
+            env[name] = cell.cell_contents
+        except ValueError:          # an empty cell
+            pass
+    todo = [code]
+    while todo:
+        c = todo.pop()
+        todo += [k for k in c.co_consts if isinstance(k, types.CodeType)]
+        obj, module = None, ""
+        for ins in dis.get_instructions(c):
+            if ins.opname == "IMPORT_NAME":
+                module = str(ins.argval)
+            elif ins.opname == "IMPORT_FROM" and ins.argval == "C" and \
+                    module.split(".")[0] == "so3lib":
+                return True
+            if ins.opname in ("LOAD_GLOBAL", "LOAD_NAME", "LOAD_DEREF"):
+                obj = env.get(ins.argval)
+            elif ins.opname in ("LOAD_ATTR", "LOAD_METHOD") and obj is not None:
+                obj = getattr(obj, str(ins.argval), None)
+            else:
+                obj = None
+            if obj is not None and obj is _C_lib:
+                return True
+    return False
+
+
+@contextlib.contextmanager
+def _spy_C(calls):
+    """While inside, a call of ``C`` through ``so3lib`` or ``so3lib.jacobians`` is
+    appended to ``calls`` (and still answered)."""
+    saved = []
+    for owner, attr in _forbidden_62():
+        orig = getattr(owner, attr)
+
+        def spy(*args, _orig=orig, **kwargs):
+            calls.append("C")
+            return _orig(*args, **kwargs)
+        saved.append((owner, attr, orig))
+        setattr(owner, attr, spy)
+    try:
+        yield calls
+    finally:
+        for owner, attr, orig in reversed(saved):
+            setattr(owner, attr, orig)
 
 
 def _written_62(t):
@@ -161,14 +305,22 @@ def _written_62(t):
 @never_raises("C_stable")
 def check_C_stable(func):
     r"""Exercise 6.2: ``C_stable(t)`` is :math:`(t - \sin t)/t^3` within 1e-12 relative
-    at every ``t`` of a list from 0 through 1e-300, 1e-8, pi and 100 (negative ones too)."""
+    at every ``t`` of a list from 0 through 1e-300, 1e-8, pi and 100 (negative ones too),
+    without calling so3lib's ``C`` (read from the code, and watched while it runs)."""
     name = "C_stable"
     fb = _start(func, name)
     if fb is not None:
         return fb
-    bad = []
+    if func is _C_lib or _names_C(func):
+        return _fail(name, "It calls so3lib's C, which the exercise asks you not to use: "
+                           "write the computation yourself.")
+    bad, calls = [], []
     for t in _TS_62:
-        got, fb = _call(func, name, (t,), f"t = {t:g}", ())
+        with _spy_C(calls):
+            got, fb = _call(func, name, (t,), f"t = {t:g}", ())
+        if calls:
+            return _fail(name, "It calls so3lib's C, which the exercise asks you not to "
+                               "use: write the computation yourself.")
         if fb is not None:
             if abs(t) < 1e-150 and ("NaN" in fb.message or "raised" in fb.message):
                 return _fail(name, f"At t = {t:g} it gives 0/0 (NaN, inf or an error): "

@@ -43,6 +43,11 @@ def test_nan_rotation_right_answers_pass(R):
     assert np.isnan(notes_recipe(R)).any()
 
 
+def test_nan_rotation_shows_a_tiny_result_as_it_is_not_as_zero():
+    text = repr(check_nan_rotation(so3lib.exp([0.0, 0.0, np.pi])))   # the recipe gives ~1.8e-08
+    assert "e-08" in text and "[0., 0., 0.]" not in text, text
+
+
 def test_the_checks_own_examples_are_rotations_to_rounding():
     for R in (HALF, HALF2):
         assert np.abs(R.T @ R - np.eye(3)).max() <= ROTATION_TOL_41
@@ -62,6 +67,8 @@ def test_the_checks_own_examples_are_rotations_to_rounding():
     (2 * np.outer([0.6, 0.8, 0.0], [0.6, 0.8, 0.0]) - np.eye(3), "skew part is exactly 0"),
     (so3lib.exp([1e-9, 0.0, 0.0]), "silent 0"),
     (so3lib.exp([0.3, -0.4, 1.2]), "lies inside \\[-1, 1\\]"),
+    (so3lib.exp([0.0, 0.0, np.pi]), "half-turn to rounding(.|\\n)*Try other axes"),
+    (so3lib.exp([3e-8, 0.0, 0.0]), "within rounding of 1"),
 ])
 def test_nan_rotation_wrong_answers_get_a_message(R, says):
     _says(check_nan_rotation(R), says)

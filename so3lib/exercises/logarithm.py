@@ -64,6 +64,15 @@ def _fmt(a):
                            suppress_small=True, separator=", ")
 
 
+def _fmt_any(a):
+    """Like :func:`_fmt`, but a vector whose entries are all tiny shows their size
+    (``[0, 0, 1.8e-08]``, not ``[0., 0., 0.]``)."""
+    a = np.asarray(a, dtype=float) + 0.0
+    if 0 < np.abs(a).max() < 1e-3:
+        return np.array2string(a, separator=", ", formatter={"float_kind": lambda x: f"{x:.2g}"})
+    return _fmt(a)
+
+
 def _not_written(name):
     return Feedback(False, f"Not yet: {name}. Not written yet: the function still "
                            "raises NotImplementedError.")
@@ -156,6 +165,8 @@ def check_nan_rotation(R_nan):
                               f"recipe returns NaN: c = (tr R - 1)/2 = {c:.17g} lies "
                               "outside [-1, 1], where arccos is not defined.")
     theta = float(angle(R))
+    near = -1.0 if c < 0 else 1.0                   # the end of [-1, 1] that c is near
+    rounding = 4 * np.finfo(float).eps              # a few roundings of c
     if not omega.any() and theta <= 1e-12:
         hint = ("Your R is the identity to rounding: the case (4.7) guards, where sigma = 0 "
                 "gives omega = 0, correctly. Look for a rotation where c = (tr R - 1)/2 can "
@@ -168,12 +179,20 @@ def check_nan_rotation(R_nan):
         hint = (f"Your R turns by {theta:.2g} rad, yet c rounds to exactly 1, so sigma = "
                 "0 and (4.7) returns a silent 0: a wrong answer, but not a NaN. Where else "
                 "is c = +-1, so that rounding can push it outside [-1, 1]?")
+    elif abs(c - near) <= rounding and near < 0:
+        hint = (f"Your R is a half-turn to rounding, but on it c = (tr R - 1)/2 = {c:.17g} "
+                "stayed inside [-1, 1], so arccos is defined and no NaN appears. You are "
+                "close: on other half-turns rounding pushes c just below -1. Try other axes.")
+    elif abs(c - near) <= rounding:
+        hint = (f"On your R, c = (tr R - 1)/2 = {c:.17g} is within rounding of 1 but stayed "
+                "inside [-1, 1], so arccos is defined and no NaN appears. Which rotation "
+                "should give c exactly 1, so that rounding can push c just above it?")
     else:
         hint = (f"On your R, c = (tr R - 1)/2 = {c:.17g} lies inside [-1, 1] and "
                 "sin(sigma tau) is not 0, so every step is defined. A NaN needs an arccos "
                 "outside [-1, 1], 0/0 or 0 * inf: which angles bring c to +-1?")
     return Feedback(False, f"Not yet: {name}. On it the recipe returns the finite "
-                           f"vector {_fmt(omega)}.\nHint: {hint}")
+                           f"vector {_fmt_any(omega)}.\nHint: {hint}")
 
 
 # --------------------------------------------------------------------------- 4.2

@@ -94,6 +94,12 @@ def _first_column(R):
         return col / np.linalg.norm(col)
 
 
+def _skew_axis(R):
+    v = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return v / np.linalg.norm(v)
+
+
 @pytest.mark.parametrize("student, says", [
     (None, "No answer yet"),
     (..., "No answer yet"),
@@ -105,6 +111,7 @@ def _first_column(R):
     (lambda R: "n", "not an array of numbers"),
     (lambda R: np.full(3, np.nan), "NaN or inf"),
     (_first_column, "largest diagonal entry"),
+    (_skew_axis, "skew part R - R\\^T is 0"),
     (lambda R: np.pi * _halfturn_axis(R), "logarithm pi n"),
     (lambda R: 2 * _halfturn_axis(R), "Right direction, but length 2"),
     (lambda R: np.array([1.0, 0.0, 0.0]) if R[2, 2] > 0.9 else _halfturn_axis(R),
@@ -143,6 +150,7 @@ def test_all_logs_right_answer_passes_in_any_order():
     (lambda R, b: np.zeros((2, 2)), r"shape \(2, 2\); expected shape \(m, 3\)"),
     (lambda R, b: np.full((2, 3), np.nan), "NaN or inf"),
     (lambda R, b: [p for p in _all_logs(R, b) if p @ so3lib.log(R) > 0], "k < 0 ones"),
+    (lambda R, b: [so3lib.log(R)], "returned 1 logarithm, all right"),
     (lambda R, b: _all_logs(R, b)[:2], "negative ones included"),
     (lambda R, b: [-p for p in _all_logs(R, b)], "is not a logarithm of R"),
     (lambda R, b: [so3lib.log(R)] * 5, "the same logarithm"),

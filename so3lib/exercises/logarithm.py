@@ -273,7 +273,8 @@ def check_all_logs(func):
         else:
             hint = ("The logarithms are (theta + 2 pi k) n for every integer k, negative "
                     "ones included; keep those with |theta + 2 pi k| < bound.")
-        return Feedback(False, f"Not yet: {name}. {label} returned {len(a)} logarithms, "
+        found = f"{len(a)} logarithm" + ("" if len(a) == 1 else "s")
+        return Feedback(False, f"Not yet: {name}. {label} returned {found}, "
                                "all right, but some logarithms shorter than the bound are "
                                f"missing.\nHint: {hint}")
     return Feedback(True, f"Correct: {name}. It finds every logarithm below the bound, "
@@ -334,10 +335,11 @@ def check_halfturn_axis(func):
                                    f"{a.shape}; expected a vector of shape (3,).")
         if not np.isfinite(a).all():
             return Feedback(False, f"Not yet: {name}. For {label} it returned "
-                                   f"{_fmt(a)}, with NaN or inf.\nHint: a column of R + I "
-                                   "is 2 n_j n, which is zero when n_j = 0. Take the column "
-                                   "j with the largest diagonal entry R[j, j]: then "
-                                   "2 n_j^2 = R[j, j] + 1 >= 2/3.")
+                                   f"{_fmt(a)}, with NaN or inf.\nHint: at a half-turn "
+                                   "the skew part R - R^T is 0, and a column of R + I, "
+                                   "2 n_j n, is zero when n_j = 0: either gives 0/0. Take "
+                                   "the column j with the largest diagonal entry R[j, j]: "
+                                   "then 2 n_j^2 = R[j, j] + 1 >= 2/3.")
         length = float(np.linalg.norm(a))
         if abs(length - 1) <= 1e-8 and np.abs(_halfturn(a) - R).max() <= 1e-8:
             continue

@@ -3,6 +3,7 @@ raising, wrong-shape, NaN and typical wrong answers get a helpful message, never
 exception, and no message gives the answer away."""
 
 import inspect
+import re
 
 import numpy as np
 import pytest
@@ -77,8 +78,11 @@ def test_fifth_power_right_answer_passes():
     (-196, "wrong sign"),
     (-14, "factor of hat\\(a\\)\\^3"),
     (14 ** 4, "power of \\|a\\|"),
-    (100, "differs from hat\\(a\\)\\^5(.|\n)*Start from the Lemma"),
+    (100, "is not hat\\(a\\)\\^5(.|\n)*Start from the Lemma"),
+    (195.99, "is not hat\\(a\\)\\^5(.|\n)*close, but(.|\n)*whole number"),
     ("196x", "not a number"),
+    ("196", "text \\(str\\), not a number(.|\n)*without quotes"),
+    (196 + 0j, "complex number; c is real"),
     (196 * so3lib.hat([1, 2, 3]), "that matrix is right(.|\n)*number c itself"),
     (-5 * so3lib.hat([1, 2, 3]), "not hat\\(a\\)\\^5"),
 ])
@@ -89,6 +93,16 @@ def test_fifth_power_wrong_answers_get_a_message(answer, pattern):
 @pytest.mark.parametrize("answer", [None, -196, -14, 14 ** 4, 100, 195.5, "x"])
 def test_fifth_power_never_prints_the_answer(answer):
     assert "196" not in repr(check_fifth_power(answer)).replace(str(answer), "")
+
+
+@pytest.mark.parametrize("answer", [0, 1, 2, 100, 195.5, -1, 1000])
+def test_fifth_power_message_measures_nothing_against_the_answer(answer):
+    # c hat(a) - hat(a)^5 is 3 (196 - c) in its largest entry: printing it (588 at c = 0)
+    # would give the answer away. Apart from the learner's own c, only the small numbers of
+    # the hints (1, 2, 3, 4, 5, 9, 14) may appear.
+    text = repr(check_fifth_power(answer)).replace(f"c = {answer:.12g}", "")
+    numbers = [float(x) for x in re.findall(r"\d+(?:\.\d+)?(?:e[+-]?\d+)?", text)]
+    assert numbers and max(numbers) <= 14, text
 
 
 def test_fifth_power_unreadable_answer_does_not_raise():
@@ -130,6 +144,43 @@ def _nested(a, p):
     return _read_off(a, p) if power is None else _fitted(a, p)
 
 
+def _fit_helper(a, p):
+    # the fit, in a function of the learner's own defined outside the answer
+    return _fitted(a, p)
+
+
+def _via_helper(a, p):
+    return _fit_helper(a, p)
+
+
+_mpow = np.linalg.matrix_power            # a matrix route under another name
+
+
+def _renamed(a, p):
+    H = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]], dtype=float)
+    M, H2 = _mpow(H, p), H @ H
+    if p == 0:
+        return (1.0, 0.0, 0.0)
+    return (0.0, np.sum(M * H) / np.sum(H * H), np.sum(M * H2) / np.sum(H2 * H2))
+
+
+def _recursive(a, p):
+    # the formula by recursion, hat(a)^p = -|a|^2 hat(a)^(p-2): a helper of its own, itself
+    a = np.asarray(a, dtype=float)
+    if p <= 2:
+        return _student(a, p)
+    return tuple(-(a @ a) * np.asarray(_recursive(a, p - 2), dtype=float))
+
+
+def _closure_route():
+    power = np.linalg.matrix_power
+
+    def answer(a, p):
+        H = np.cross(np.eye(3), a)
+        return (0.0, *np.asarray(power(H, p))[0, 1:])   # nonsense, refused before it runs
+    return answer
+
+
 def _loop_of_products(a, p):
     # a hand-built hat(a) and a loop of @: the one matrix route the checker cannot see
     a = np.asarray(a, dtype=float)
@@ -152,11 +203,21 @@ def test_power_coefficients_right_answers_pass():
 @pytest.mark.parametrize("student, names", [
     (_fitted, "hat, lstsq, matrix_power"),
     (_read_off, "cross, matrix_power"),
-    (_nested, "matrix_power"),
+    (_nested, r"cross, hat, lstsq, matrix_power \(inside _fitted, _read_off\)"),
+    (_via_helper, r"hat, lstsq, matrix_power \(inside _fitted\)"),
+    (_renamed, "matrix_power"),
+    (_closure_route(), "cross, matrix_power"),
 ])
 def test_power_coefficients_refuses_a_matrix_route(student, names):
     _says(check_power_coefficients(student), "power_coefficients",
           f"calls {names}(.|\n)*asks for the formula")
+
+
+def test_power_coefficients_follows_helpers_without_false_alarms():
+    # a learner's own helper that computes the formula (here the answer itself, by
+    # recursion) is followed and passes
+    fb = check_power_coefficients(_recursive)
+    assert fb and repr(fb).startswith("Correct: power_coefficients"), repr(fb)
 
 
 def test_power_coefficients_cannot_see_a_loop_of_products():

@@ -16,9 +16,11 @@ Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises. A 
 holds no answer: it tests the defining property of what the learner hands in (``S`` is
 symmetric, ``K`` skew and ``S + K = M``; ``c hat(a)`` equals ``hat(a)^5`` multiplied out
 with a matrix power) and never prints the value it is looking for. The checker of 1.3
-also refuses code that calls a matrix route (``matrix_power``, ``lstsq``, ...), since the
-exercise asks for the formula. When an answer is
-wrong it names the usual mistake it matches, with a hint.
+also refuses code that calls a matrix route (``matrix_power``, ``lstsq``, ...), directly, through
+a function of the learner's own or under another name, since the exercise asks for the
+formula. When an answer is wrong it names the usual mistake it matches, with a hint; a
+wrong number is never measured against the right one in the message (that would give it
+away).
 """
 
 import numpy as np
@@ -144,10 +146,10 @@ def check_split(func):
         if total > scale:
             parts.append(f"S + K differs from M by {total:.2g}")
         return _fail(name, f"On {label}: " + "; ".join(parts) + ".", _SPLIT_HINT)
+    inner = "0 on each" if worst_inner == 0 else "below 1e-12 on each (0 up to rounding)"
     return Feedback(True, f"Correct: {name}. S is symmetric, K is skew and S + K = M for "
-                          f"{len(_SPLIT_INPUTS)} matrices; and tr(S^T K) is "
-                          f"{'0' if worst_inner == 0 else 'below 1e-12'} (zero up to "
-                          "rounding), as your proof says.")
+                          f"{len(_SPLIT_INPUTS)} matrices; and tr(S^T K) is {inner}, as your "
+                          "proof says.")
 
 
 # ---------------------------------------------------------------- exercise 1.2
@@ -158,7 +160,9 @@ def check_fifth_power(answer):
 
     Compares ``c hat(a)`` with ``hat(a)^5`` multiplied out (exact in floats: the entries
     are integers below 2^53). Recognises the usual slips: the sign, the exponent of
-    ``|a|``, and handing in the matrix :math:`\hat a^5` instead of the number.
+    ``|a|``, and handing in the matrix :math:`\hat a^5` (or text) instead of the number.
+    A wrong ``c`` is not measured against ``hat(a)^5``: the size of ``c hat(a) - hat(a)^5``
+    would give the answer away (at ``c = 0`` it is 3 times it).
     """
     name = "the coefficient c of hat(a)^5 = c hat(a)"
     H = hat(A_FIFTH)
@@ -168,6 +172,11 @@ def check_fifth_power(answer):
             "hat(a)^5 = hat(a)^3 hat(a)^2 = -|a|^2 hat(a)^3. Here |a|^2 = 1 + 4 + 9 = 14.")
     if answer is None or answer is Ellipsis:
         return _fail(name, _NOT_ANSWERED)
+    if isinstance(answer, (str, bytes)):
+        return _fail(name, f"The answer is text ({type(answer).__name__}), not a number: "
+                           "write the number itself, without quotes.", hint)
+    if np.iscomplexobj(answer):
+        return _fail(name, "The answer is a complex number; c is real.", hint)
     try:
         arr = np.asarray(answer, dtype=float)
     except Exception:  # noqa: BLE001 -- a checker never raises
@@ -193,9 +202,11 @@ def check_fifth_power(answer):
     elif any(np.isclose(abs(x), v) for v in (n2 ** 1.5, n2 ** 2.5, n2 ** 4, n2 ** 5)):
         hint = ("Check the power of |a|: hat(a)^(2k+1) = (-1)^k |a|^(2k) hat(a), and "
                 "5 = 2k + 1 gives k = 2, so the factor is |a|^4 = (|a|^2)^2.")
-    off = float(np.abs(x * H - H5).max())
-    return _fail(name, f"With c = {x:.6g}, c hat(a) differs from hat(a)^5 (multiplied out) "
-                       f"by {off:.3g} in its largest entry.", hint)
+    why = f"With c = {x:.12g}, c hat(a) is not hat(a)^5 (multiplied out)."
+    if np.allclose(x * H, H5, rtol=1e-3, atol=0):
+        why += (" It is close, but the Lemma gives c exactly, as a whole number: no rounding "
+                "is needed.")
+    return _fail(name, why, hint)
 
 
 # ---------------------------------------------------------------- exercise 1.3
@@ -218,15 +229,51 @@ _MATRIX_ROUTE = frozenset({"matrix_power", "lstsq", "hat", "cross", "expm"})
 
 
 def _matrix_route(func):
-    """The names of :data:`_MATRIX_ROUTE` that ``func``'s code (and any code object nested
-    in it: inner functions, lambdas, comprehensions) refers to; empty if none or no code."""
+    """``(names, helpers)``: the names of :data:`_MATRIX_ROUTE` that ``func``'s code refers
+    to, and the learner's own functions through which it does.
+
+    Followed: code objects nested in it (inner functions, lambdas, comprehensions), the
+    functions it closes over, and the functions of the learner's namespace (its
+    ``__globals__``) that it names, recursively. A name bound there to a matrix route
+    under another name (``mp = np.linalg.matrix_power``) counts by the function's own
+    ``__name__``. Both sets are empty when ``func`` has no code."""
     code = getattr(func, "__code__", None)
-    found, todo = set(), [code] if code is not None else []
+    if code is None:
+        return set(), set()
+    space = getattr(func, "__globals__", {})
+    found, helpers, seen = set(), set(), set()
+    todo = [(code, None)]
+
+    def follow(obj, name, via):
+        """A matrix route renamed is a hit; a function of the learner's is followed."""
+        if getattr(obj, "__name__", None) in _MATRIX_ROUTE:
+            found.add(obj.__name__)
+            if via is not None:
+                helpers.add(via)
+        elif getattr(obj, "__globals__", None) is space and hasattr(obj, "__code__"):
+            todo.append((obj.__code__, name))
+
+    for cell in getattr(func, "__closure__", None) or ():
+        try:
+            inner = cell.cell_contents
+        except ValueError:                                     # an empty cell
+            continue
+        follow(inner, getattr(inner, "__name__", "a closure"), None)
     while todo:
-        c = todo.pop()
-        found |= _MATRIX_ROUTE & set(c.co_names)
-        todo.extend(k for k in c.co_consts if hasattr(k, "co_names"))
-    return found
+        c, via = todo.pop()
+        if id(c) in seen:
+            continue
+        seen.add(id(c))
+        hits = _MATRIX_ROUTE & set(c.co_names)
+        if hits:
+            found.update(hits)
+            if via is not None:
+                helpers.add(via)
+        todo.extend((k, via) for k in c.co_consts if hasattr(k, "co_names"))
+        for n in c.co_names:
+            if n in space:
+                follow(space[n], n, via)
+    return found, helpers
 
 
 @never_raises("power_coefficients")
@@ -240,17 +287,20 @@ def check_power_coefficients(func):
     ``p = 400`` on ``a = (0.6, 0, 0.8)``. It stops at the first wrong answer with a hint
     for that ``p``.
 
-    The exercise asks for the formulas (1.7) and (1.8), so a function whose code (or the
-    code of a function defined inside it) names a matrix route, ``matrix_power``,
-    ``lstsq``, ``hat``, ``cross`` or ``expm``, is refused. A hand-written loop of ``@``
+    The exercise asks for the formulas (1.7) and (1.8), so a function whose code names a
+    matrix route, ``matrix_power``, ``lstsq``, ``hat``, ``cross`` or ``expm``, is refused:
+    in its own code, in a function defined inside it, in a function of the notebook it
+    calls, or under another name (see :func:`_matrix_route`). A hand-written loop of ``@``
     products is not seen, nor is ``matmul``: ``a @ a`` (or ``np.matmul(a, a)``) is also how
     the formula computes ``|a|^2``.
     """
     name = "power_coefficients"
-    used = _matrix_route(func)
+    used, helpers = _matrix_route(func)
     if used:
-        return _fail(name, f"Your code calls {', '.join(sorted(used))}: that computes the "
-                           "matrix power, and the exercise asks for the formula.",
+        via = f" (inside {', '.join(sorted(helpers))})" if helpers else ""
+        return _fail(name, f"Your code calls {', '.join(sorted(used))}{via}: that is the "
+                           "matrix route (a matrix power, or a fit to one), and the exercise "
+                           "asks for the formula.",
                      "Use (1.7) and (1.8): only the number |a|^2 = a @ a and the parity "
                      "of p are needed.")
     vectors = (np.array([1.0, 2.0, 3.0]), np.array([0.5, -1.0, 0.25]))

@@ -17,6 +17,8 @@ expected answer.
 
 import contextlib
 import dis
+import inspect
+import sys
 import types
 
 import numpy as np
@@ -111,10 +113,32 @@ def _calls_log(func):
     return False
 
 
+def _logarithm_codes():
+    """{code object: name} of every function whose call counts as calling a logarithm:
+    the functions of ``so3lib.so3`` that compute one (``log``, its private kernels
+    ``_log_one``, ``_log_block``, ``_near_pi``, and any later function with "log" in its
+    name), SciPy's ``Rotation.as_rotvec`` and the body of ``scipy.linalg.logm``. Watching
+    code objects catches a call however the function was reached: a name bound before the
+    checker ran, ``globals()``, a private helper."""
+    import scipy.linalg
+    from scipy.spatial.transform import Rotation
+    codes = {}
+    for fname, f in vars(so3).items():
+        if (inspect.isfunction(f) and f.__module__ == so3.__name__
+                and ("log" in fname or fname == "_near_pi")):
+            codes[f.__code__] = "log" if fname == "log" else f"so3lib.so3.{fname}"
+    for f, name in ((Rotation.as_rotvec, "as_rotvec"), (scipy.linalg.logm, "logm")):
+        code = getattr(inspect.unwrap(f), "__code__", None)
+        if isinstance(code, types.CodeType):
+            codes[code] = name
+    return codes
+
+
 @contextlib.contextmanager
 def _call_logging(calls):
-    """While inside, every call of a :func:`_forbidden` logarithm through its module or
-    class is appended to ``calls`` (and still answered)."""
+    """While inside, every call of a logarithm is appended to ``calls`` (and still
+    answered): through its module or class (:func:`_forbidden`), or by any other road
+    (its code object runs: :func:`_logarithm_codes`)."""
     saved = []
     for owner, name in _forbidden():
         orig = getattr(owner, name)
@@ -124,9 +148,18 @@ def _call_logging(calls):
             return _orig(*args, **kwargs)
         saved.append((owner, name, orig))
         setattr(owner, name, spy)
+    codes = _logarithm_codes()
+
+    def watch(frame, event, arg):
+        if event == "call" and frame.f_code in codes:
+            calls.append(codes[frame.f_code])
+
+    previous = sys.getprofile()
+    sys.setprofile(watch)
     try:
         yield calls
     finally:
+        sys.setprofile(previous)
         for owner, name, orig in reversed(saved):
             setattr(owner, name, orig)
 
@@ -149,7 +182,10 @@ def _judge(v, omega, tau):
                 "logarithm turns by at most pi. Beyond half a turn the shorter way round is "
                 "the other way, along -n, by 2 pi - r.")
     if np.allclose(exp(-np.asarray(v), tau), exp(omega, tau), atol=1e-9):
-        return "it is off by a sign (think of the sign of tau when you divide by it)."
+        if tau < 0:
+            return "it is off by a sign (think of the sign of tau when you divide by it)."
+        return ("it is off by a sign: it turns the wrong way round the axis. Past half a "
+                "turn, the shorter turn is about -n, not n.")
     return "exp(v, tau) with your v is not the rotation exp(omega, tau)."
 
 

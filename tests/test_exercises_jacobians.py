@@ -130,6 +130,8 @@ def test_C_stable_mistakes(answer, pattern):
     (lambda p, b: hat(exp(p).T @ b) @ left_jacobian(p), "uses J_l"),
     (lambda p, b: right_jacobian(p) @ hat(exp(p).T @ b), "wrong order"),
     (lambda p, b: hat(exp(p) @ b) @ right_jacobian(p), "exp.phi.\\^T b .the body"),
+    (lambda p, b: np.column_stack([(exp(p + 1e-6 * e).T @ b - exp(p - 1e-6 * e).T @ b) / 2e-6
+                                   for e in np.eye(3)]), "finite differences cannot reach"),
 ])
 def test_body_jacobian_mistakes(answer, pattern):
     says_for(check_body_jacobian(answer), "body_jacobian", pattern)

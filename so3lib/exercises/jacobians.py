@@ -114,7 +114,7 @@ def _log_mp(M):
 def _exp_mp(p):
     th = _mp.sqrt(sum(x * x for x in p))
     K = _mp.matrix([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
-    return _mp.eye(3) + _mp.sin(th) / th * K + (1 - _mp.cos(th)) / th**2 * K * K
+    return _mp.eye(3) + _mp.sin(th) / th * K + 2 * (_mp.sin(th / 2) / th)**2 * K * K
 
 
 def _fd_ominus(R1, R0):
@@ -370,14 +370,24 @@ def _cases_63():
 
 
 def _fd_body(phi, b):
-    """Columns: d/dphi_j of exp(phi)^T b, by centred differences."""
-    return np.column_stack([(exp(phi + _H * e).T @ b - exp(phi - _H * e).T @ b) / (2 * _H)
-                            for e in np.eye(3)])
+    """Columns: d/dphi_j of exp(phi)^T b, by 50-digit centred differences."""
+    with _mp.workdps(50):
+        h = _mp.mpf("1e-20")
+        p, v = [_mp.mpf(float(x)) for x in phi], _mp.matrix([float(x) for x in b])
+        cols = []
+        for j in range(3):
+            up = _exp_mp([x + (h if i == j else 0) for i, x in enumerate(p)])
+            down = _exp_mp([x - (h if i == j else 0) for i, x in enumerate(p)])
+            cols.append([float(x) for x in (up.T * v - down.T * v) / (2 * h)])
+    return np.array(cols).T
 
 
 def _diagnose_63(got, phi, b):
     v = hat(exp(phi).T @ b)
     jr = _fd_jacobian(phi, "right")
+    if _close(got, _fd_body(phi, b), 1e-6):
+        return ("Close (within 1e-6) but not within 1e-12: finite differences cannot reach "
+                "the last digits. Expand exp(phi + delta)^T b to first order instead.")
     if _close(got, v, 1e-7) and not _close(v, v @ jr, 1e-7):
         return ("It is hat(exp(phi)^T b) alone: J_r(phi) is missing. exp(phi + delta) is "
                 "not exp(phi) exp(delta); it is exp(phi) exp(J_r(phi) delta).")
@@ -397,7 +407,8 @@ def _diagnose_63(got, phi, b):
 def check_body_jacobian(func):
     r"""Exercise 6.3: ``body_jacobian(phi, b)`` is :math:`\partial(e^{-\hat\varphi}b)/
     \partial\varphi`, the derivative of the measured direction ``b`` seen in the body
-    frame, checked against a centred difference of ``exp`` (within 1e-7)."""
+    frame, checked against 50-digit centred differences of the exponential (within
+    1e-12, which differences in floats do not reach)."""
     name = "body_jacobian"
     fb = _start(func, name)
     if fb is not None:
@@ -408,13 +419,13 @@ def check_body_jacobian(func):
         if fb is not None:
             return fb
         ref = _fd_body(phi, b)
-        if not _close(got, ref, 1e-7):
+        if not _close(got, ref, 1e-12):
             diff = float(np.abs(got - ref).max())
-            why = (f"On {shown} it differs from the finite-difference derivative of "
-                   f"exp(phi)^T b by up to {diff:.2g}; your result is {_fmt(got)}.")
+            why = (f"On {shown} it differs from the 50-digit derivative of exp(phi)^T b "
+                   f"by up to {diff:.2g} (allowed: 1e-12); your result is {_fmt(got)}.")
             extra = _diagnose_63(got, phi, b)
             return Feedback(False, f"Not yet: {name}. {why}" + (f" {extra}" if extra else "")
                             + "\nHint: exp(phi + delta)^T ~ exp(J_r delta)^T exp(phi)^T "
                               "= exp(-J_r delta) exp(phi)^T; expand to first order.")
-    return _ok(name, f"It matches the derivative of exp(phi)^T b by finite differences on "
+    return _ok(name, f"It matches 50-digit differences of exp(phi)^T b within 1e-12 on "
                      f"{len(cases)} cases.")

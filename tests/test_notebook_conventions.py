@@ -6,6 +6,8 @@ exercise in some edition. These tests read the committed notebooks only (fast, n
 kernel) and cover any notebook added later.
 """
 
+import functools
+import importlib
 import re
 
 import pytest
@@ -82,12 +84,28 @@ def test_every_check_and_hidden_test_belongs_to_an_exercise(nb):
     assert not orphans, f"cells {orphans} are check/hidden-test cells before any answer cell"
 
 
+@functools.cache
+def _checker_names():
+    """Every public name that the modules of so3lib.exercises define."""
+    import pkgutil
+
+    import so3lib.exercises as ex
+    names = set()
+    for info in pkgutil.iter_modules(ex.__path__):
+        module = importlib.import_module(f"so3lib.exercises.{info.name}")
+        names |= {n for n, v in vars(module).items()
+                  if not n.startswith("_") and getattr(v, "__module__", None) == module.__name__}
+    return names
+
+
 def test_hidden_tests_are_silent_and_independent_of_the_checkers(nb):
     for i, c in enumerate(nb.cells):
         if _kind(c) != "hidden-test":
             continue
         assert c.cell_type == "code"
         assert "so3lib.exercises" not in c.source, f"hidden test {i} must not use the checkers"
+        used = _checker_names() & set(re.findall(r"[A-Za-z_]\w*", c.source))
+        assert not used, f"hidden test {i} calls a checker ({', '.join(sorted(used))})"
         assert "assert" in c.source, f"hidden test {i} asserts nothing"
         printed = c.get("outputs", [])
         assert not printed, f"hidden test {i} prints; it should be silent when the answer is right"

@@ -137,6 +137,18 @@ def test_body_jacobian_mistakes(answer, pattern):
     says_for(check_body_jacobian(answer), "body_jacobian", pattern)
 
 
+def test_C_stable_series_kept_too_long_is_refused():
+    """Four series terms up to 0.3: 1e-11 relative at 0.3, between the old test angles."""
+    def late(t):
+        if abs(t) < 0.3:
+            t2 = t * t
+            return 1 / 6 - t2 / 120 + t2 * t2 / 5040 - t2**3 / 362880
+        return (t - math.sin(t)) / t**3
+    fb = check_C_stable(late)
+    assert not fb
+    assert "Only larger t" in fb.message and "0.1666" not in fb.message
+
+
 def test_C_stable_threshold_too_low_is_refused():
     """Two series terms up to 0.002, the written form above: 5.6e-11 relative at 0.0025."""
     def early(t):

@@ -229,9 +229,11 @@ def check_ominus_jacobians(func):
 
 _TS_62 = [1.0, 0.0, 1e-300, 1e-8, 1e-5, 1e-3, 0.1, 0.9, 1.7, 2.5, math.pi, 4.0, 10.0,
           100.0, -0.5, -1e-6]
-# a log-spaced grid from 1e-3 to 0.1, both signs: where a threshold between the series
+# a dense log-spaced grid from 1e-3 to 2, both signs: where a threshold between the series
 # and the written form goes wrong (either form too far from home)
-_TS_62 += [float(x) for g in np.geomspace(1e-3, 0.1, 25)[1:-1] for x in (g, -g)]
+_TS_62 += [float(x) for g in np.geomspace(1e-3, 2.0, 160)[1:-1] for x in (g, -g)]
+# and just above round thresholds, where the written form starts
+_TS_62 += [1.02 * x for x in (0.002, 0.005, 0.01, 0.02, 0.03, 0.05, 0.2, 0.3, 0.5)]
 
 
 def _forbidden_62():
@@ -339,6 +341,11 @@ def check_C_stable(func):
     # a wrong value equal to the written form in floats is cancellation; others are not
     small = [b for b in bad if abs(b[2] - _written_62(b[0])) <= 0.01 * abs(b[2] - b[3])]
     large = [b for b in bad if b not in small]
+    # one or two points can match the written form by luck of rounding: go by the most
+    if len(small) < 0.1 * len(bad):
+        small = []
+    elif len(large) < 0.1 * len(bad):
+        large = []
     where = ", ".join(f"{b[0]:g}" for b in bad[:4])
     why = f"Relative error {rel:.2g} at t = {t:g} (wrong at t = {where})."
     if any(b[0] < 0 for b in bad) and all(abs(b[0]) < 1e-7 or b[0] < 0 for b in bad) and \

@@ -6,7 +6,7 @@ the regrouping produces,
 
 .. math:: e^{\hat\varphi} = \sum_{m \ge 0} \frac{\hat\varphi^m}{m!}
           = I + A(\theta)\,\hat\varphi + B(\theta)\,\hat\varphi^2,
-          \qquad A(t) = \frac{\sin t}{t},\quad B(t) = \frac{1 - \cos t}{t^2}.
+          \qquad A(x) = \frac{\sin x}{x},\quad B(x) = \frac{1 - \cos x}{x^2}.
 
 :func:`so3lib.exp` is the function to use for computing. It evaluates the same formula
 in another way: the whole matrix from one tangent, ``t = tan(theta/2)``, with no
@@ -58,50 +58,50 @@ def exp_series(omega, tau=1.0, terms=20):
     return total
 
 
-def A(t):
+def A(x):
     r"""The coefficient of :math:`\hat\varphi` in Rodrigues' formula.
 
-    .. math:: A(t) = \frac{\sin t}{t} = \sum_{k\ge0} \frac{(-1)^k t^{2k}}{(2k+1)!},
+    .. math:: A(x) = \frac{\sin x}{x} = \sum_{k\ge0} \frac{(-1)^k x^{2k}}{(2k+1)!},
               \qquad A(0) = 1
 
-    ``sin(t)/t`` is accurate wherever ``t != 0``; below ``1e-4`` the Taylor form
-    ``1 - t^2/6`` is used, which is exact to rounding there (spec S10).
+    ``sin(x)/x`` is accurate wherever ``x != 0``; below ``1e-4`` the Taylor form
+    ``1 - x^2/6`` is used, which is exact to rounding there (spec S10).
 
     Parameters
     ----------
-    t : float or array_like
+    x : float or array_like
 
     Returns
     -------
-    ndarray or float, same shape as ``t``
+    ndarray or float, same shape as ``x``
     """
-    t = as_times(t, "A", name="t")
-    tiny = np.abs(t) < _TAYLOR_BELOW
-    safe = np.where(tiny, 1.0, t)
-    out = np.where(tiny, 1.0 - t * t / 6.0, np.sin(safe) / safe)
+    x = as_times(x, "A", name="x")
+    tiny = np.abs(x) < _TAYLOR_BELOW
+    safe = np.where(tiny, 1.0, x)
+    out = np.where(tiny, 1.0 - x * x / 6.0, np.sin(safe) / safe)
     return out[()] if out.ndim == 0 else out
 
 
-def B(t):
+def B(x):
     r"""The coefficient of :math:`\hat\varphi^2` in Rodrigues' formula.
 
-    .. math:: B(t) = \frac{1 - \cos t}{t^2} = \frac{2\sin^2(t/2)}{t^2}
-              = \sum_{k\ge0} \frac{(-1)^k t^{2k}}{(2k+2)!}, \qquad B(0) = \tfrac12
+    .. math:: B(x) = \frac{1 - \cos x}{x^2} = \frac{2\sin^2(x/2)}{x^2}
+              = \sum_{k\ge0} \frac{(-1)^k x^{2k}}{(2k+2)!}, \qquad B(0) = \tfrac12
 
-    The half-angle form has no cancellation; the naive ``(1 - cos t)/t^2`` returns 0 at
-    ``t = 1e-8`` (notebook 02, "Small angles"). Below ``1e-4``, ``1/2 - t^2/24``.
+    The half-angle form has no cancellation; the naive ``(1 - cos x)/x^2`` returns 0 at
+    ``x = 1e-8`` (notebook 02, "Small angles"). Below ``1e-4``, ``1/2 - x^2/24``.
 
     Parameters
     ----------
-    t : float or array_like
+    x : float or array_like
 
     Returns
     -------
-    ndarray or float, same shape as ``t``
+    ndarray or float, same shape as ``x``
     """
-    t = as_times(t, "B", name="t")
-    tiny = np.abs(t) < _TAYLOR_BELOW
-    safe = np.where(tiny, 1.0, t)
-    out = np.where(tiny, 0.5 - t * t / 24.0, 2.0 * (np.sin(0.5 * safe) / safe) ** 2)
+    x = as_times(x, "B", name="x")
+    tiny = np.abs(x) < _TAYLOR_BELOW
+    safe = np.where(tiny, 1.0, x)
+    out = np.where(tiny, 0.5 - x * x / 24.0, 2.0 * (np.sin(0.5 * safe) / safe) ** 2)
     return out[()] if out.ndim == 0 else out
 

@@ -118,8 +118,8 @@ def exp(omega, tau=1.0):
               = I + A(\theta)\,\hat\varphi + B(\theta)\,\hat\varphi^2,
               \qquad \varphi = \omega\tau,\ \theta = \lVert\varphi\rVert,
 
-    with :math:`A(t) = \sin t / t` and :math:`B(t) = (1 - \cos t)/t^2
-    = 2\sin^2(t/2)/t^2` (Rodrigues' formula, notebook 02, spec S7).
+    with :math:`A(x) = \sin x / x` and :math:`B(x) = (1 - \cos x)/x^2
+    = 2\sin^2(x/2)/x^2` (Rodrigues' formula, notebook 02, spec S7).
 
     Parameters
     ----------

@@ -12,11 +12,11 @@ checker                     the exercise
 ==========================  ==============================================================
 
 Each checker returns a :class:`so3lib.exercises.Feedback` and never raises. The function
-exercises are checked through their defining property -- a centred finite difference of
-:func:`so3lib.exp`, or of the logarithm in 50 digits (mpmath) -- not against a stored
-answer, and a message names the mistake it
-recognises (the left Jacobian in place of the right one, a missing term, a cancellation)
-without printing the expected value.
+exercises are checked through their defining property -- 50-digit (mpmath) centred
+differences of the exponential or the logarithm, to 1e-12, which differences in floats
+do not reach -- not against a stored answer, and a message names the mistake it
+recognises (a wrong side or sign, a Jacobian of exp for one of log, a missing factor, a
+cancellation, a series kept too far) without printing the expected value.
 """
 
 import contextlib

@@ -133,7 +133,7 @@ def new_3d_figure(title, radius=1.2, height=PLOTLY_HEIGHT):
                "yaxis": {**axis, "title": {"text": "y"}},
                "zaxis": {**axis, "title": {"text": "z"}},
                "aspectmode": "cube",
-               "camera": {"eye": {"x": 1.2, "y": 1.05, "z": 0.7}}},
+               "camera": {"eye": {"x": 1.55, "y": 1.35, "z": 0.85}}},  # whole box on a slide
         template="none",  # no plotly theme stored in the notebook: the styling is here
         paper_bgcolor="white",
     )

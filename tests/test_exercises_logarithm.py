@@ -113,12 +113,21 @@ def _skew_axis(R):
     (_first_column, "largest diagonal entry"),
     (_skew_axis, "skew part R - R\\^T is 0"),
     (lambda R: np.pi * _halfturn_axis(R), "logarithm pi n"),
-    (lambda R: 2 * _halfturn_axis(R), "Right direction, but length 2"),
+    (lambda R: 2 * _halfturn_axis(R), "right direction, but length 2, not 1"),
     (lambda R: np.array([1.0, 0.0, 0.0]) if R[2, 2] > 0.9 else _halfturn_axis(R),
      "every column of R \\+ I is a multiple of n"),
 ])
 def test_halfturn_axis_wrong_answers_get_a_message(student, says):
     _says(check_halfturn_axis(student), says)
+
+
+@pytest.mark.parametrize("factor", [np.pi, 2.0, 0.5])
+def test_halfturn_axis_wrong_length_is_not_called_a_wrong_axis(factor):
+    # a multiple of the axis gives 2 u u^T - I = R once normalised: the message must name
+    # the length, not print "differs from R by 0" after "not its axis"
+    text = repr(check_halfturn_axis(lambda R: factor * _halfturn_axis(R)))
+    assert "right direction" in text and "not its axis" not in text, text
+    assert "differs from R by 0" not in text, text
 
 
 def test_halfturn_axis_messages_do_not_show_the_axis():

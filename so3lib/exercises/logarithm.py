@@ -345,17 +345,19 @@ def check_halfturn_axis(func):
             continue
         u = a / length if length > 0 else a
         along = length > 0 and np.abs(_halfturn(u) - R).max() <= 1e-8
-        if along and abs(length - np.pi) <= 1e-7:
-            hint = "That is the logarithm pi n; the exercise asks for the unit axis n."
-        elif along:
-            hint = (f"Right direction, but length {length:.4g}: divide the column by its "
-                    "length, sqrt(2 (R[j, j] + 1)).")
-        else:
-            hint = ("R + I = 2 n n^T, so every column of R + I is a multiple of n: take "
-                    "the one with the largest diagonal entry and normalise it.")
+        if along:               # the right line, the wrong length: say that, not "0"
+            if abs(length - np.pi) <= 1e-7:
+                hint = "That is the logarithm pi n; the exercise asks for the unit axis n."
+            else:
+                hint = ("Divide the column by its length, sqrt(2 (R[j, j] + 1)).")
+            return Feedback(False, f"Not yet: {name}. For {label} it returned {_fmt(a)}: "
+                                   f"right direction, but length {length:.4g}, not 1, so "
+                                   "2 n n^T - I is not R.\nHint: " + hint)
+        hint = ("R + I = 2 n n^T, so every column of R + I is a multiple of n: take "
+                "the one with the largest diagonal entry and normalise it.")
         return Feedback(False, f"Not yet: {name}. For {label} it returned {_fmt(a)}, "
-                               "which is not its axis: 2 n n^T - I differs from R by "
-                               f"{np.abs(_halfturn(u) - R).max():.2g}.\nHint: {hint}")
+                               "which is not its axis: even normalised, 2 n n^T - I differs "
+                               f"from R by {np.abs(_halfturn(u) - R).max():.2g}.\nHint: {hint}")
     return Feedback(True, f"Correct: {name}. It finds the axis (up to its sign, which is "
                           "free at a half-turn) of 6 half-turns.")
 

@@ -52,7 +52,7 @@ what is still wrong.
       .venv/bin/python -m pip install -r environment.txt
       .venv/bin/jupyter lab notebooks/00_start_here.ipynb
 
-Work through the notebooks in order: 00, 01, ..., 05, then the appendix A1.
+Work through the notebooks in order: 00, 01, ..., 06, then the appendix A1.
 """
 
 

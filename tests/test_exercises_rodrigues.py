@@ -52,6 +52,29 @@ def test_partial_sum_notices_the_forbidden_exp_series(student, pattern):
     _says(check_partial_sum(student), "partial_sum", pattern)
 
 
+_series_alias = so3lib.exp_series             # a learner's `from so3lib import exp_series as es`
+
+
+def _calls_an_alias(omega, tau, terms):
+    return _series_alias(omega, tau, terms)
+
+
+def _calls_through_getattr(omega, tau, terms):
+    return getattr(so3lib, "exp_" + "series")(omega, tau, terms)
+
+
+@pytest.mark.parametrize("student", [_calls_an_alias, _calls_through_getattr])
+def test_partial_sum_notices_exp_series_under_another_name(student):
+    _says(check_partial_sum(student), "partial_sum", "calls exp_series")
+
+
+def test_partial_sum_watch_leaves_no_profile_hook_behind():
+    import sys
+    check_partial_sum(_calls_an_alias)
+    check_partial_sum(_by_hand)
+    assert sys.getprofile() is None
+
+
 def _elementwise(omega, tau, terms):
     K = tau * so3lib.hat(omega)
     return sum(K ** m / math.factorial(m) for m in range(terms))
@@ -134,6 +157,24 @@ def test_B_right_answers_pass():
 ])
 def test_B_notices_the_forbidden_library_B(student, pattern):
     _says(check_B(student), "B_stable", pattern)
+
+
+_B_alias = so3lib.B                           # a learner's `from so3lib import B as B_lib`
+
+
+@pytest.mark.parametrize("student", [
+    lambda x: float(_B_alias(x)),
+    lambda x: float(getattr(so3lib.series, "".join("B"))(x)),
+])
+def test_B_notices_the_library_B_under_another_name(student):
+    _says(check_B(student), "B_stable", r"calls so3lib\.B")
+
+
+def test_B_may_call_other_library_functions():
+    def via_sin_only(x):                     # so3lib.A is not ruled out
+        return 0.5 if x == 0 else float(so3lib.A(x / 2)) ** 2 / 2
+    fb = check_B(via_sin_only)
+    assert fb and repr(fb).startswith("Correct: B_stable"), repr(fb)
 
 
 def _naive(x):

@@ -18,10 +18,13 @@ prints the value it is looking for. 2.1 and 2.3 compare with the library's own
 property asked for (the naive formula's error near the learner's ``x``, against a
 high-precision reference). When an answer is wrong, the checker compares it with the
 usual mistakes (one term too many, an element-by-element power, the naive ``1 - cos``,
-a Taylor polynomial used too far out) and names the one it matches.
+a Taylor polynomial used too far out) and names the one it matches. 2.1 and 2.3 rule out
+calling ``exp_series`` and ``B``: the checkers notice such a call by name, and under any
+other name (an alias, ``getattr``) while they run the learner's function.
 """
 
 import math
+import sys
 
 import mpmath
 import numpy as np
@@ -59,14 +62,42 @@ def _global_names(func):
 
 
 def _forbidden(func, reference, name, what):
-    """A "Not yet" Feedback when ``func`` is, or calls, the library function the exercise
-    asks the learner not to use (``what``, e.g. ``"exp_series"``); else None."""
+    """A "Not yet" Feedback when ``func`` is, or names, the library function the exercise
+    asks the learner not to use (``what``, e.g. ``"exp_series"``); else None. A call under
+    another name is caught while the checker runs the function (:class:`_Watch`)."""
     if func is reference:
         return _fail(name, f"That is so3lib's own {what}; the exercise asks you to write it.")
     if what in _global_names(func):
-        return _fail(name, f"Your function calls {what}, which the exercise asks you not to "
-                           "use: write the computation yourself.")
+        return _called(name, what)
     return None
+
+
+def _called(name, what):
+    return _fail(name, f"Your function calls {what}, which the exercise asks you not to "
+                       "use: write the computation yourself.")
+
+
+class _Watch:
+    """While active, notes whether the Python function ``reference`` is entered, under
+    whatever name it was called (an alias, ``getattr``, a module attribute): a profile
+    hook (``sys.setprofile``) sees every call, and the previous hook is put back."""
+
+    def __init__(self, reference):
+        self._code = reference.__code__
+        self.seen = False
+
+    def _hook(self, frame, event, arg):
+        if event == "call" and frame.f_code is self._code:
+            self.seen = True
+
+    def __enter__(self):
+        self._previous = sys.getprofile()
+        sys.setprofile(self._hook)
+        return self
+
+    def __exit__(self, *exc):
+        sys.setprofile(self._previous)
+        return False
 
 
 # ---------------------------------------------------------------- exercise 2.1
@@ -111,7 +142,7 @@ def check_partial_sum(func):
 
     A wrong sum gets the size of its difference and, where it matches one, the usual
     mistake; never the right matrix. A function that is, or calls, ``exp_series`` (which
-    the exercise rules out) is turned down.
+    the exercise rules out), under any name, is turned down.
     """
     name = "partial_sum"
     if callable(func):
@@ -120,7 +151,10 @@ def check_partial_sum(func):
             return fb
     for omega, tau, terms in _SUM_INPUTS:
         shown = f"partial_sum({np.array2string(omega, separator=', ')}, {tau:g}, {terms})"
-        got, fb = _call(func, name, (omega, tau, terms), shown, _SUM_HINT)
+        with _Watch(exp_series) as watch:
+            got, fb = _call(func, name, (omega, tau, terms), shown, _SUM_HINT)
+        if watch.seen:
+            return _called(name, "exp_series")
         if fb is not None:
             return fb
         problem = _shape_problem(got, (3, 3), f"On {shown}, the answer")
@@ -258,7 +292,7 @@ def check_B(func):
     too long fails), ``1e-300`` and ``x = 30``, then just below the round switch-overs
     0.005, 0.01, 0.05, 0.1 and at 60 values of each sign from 1e-4 to 1. A wrong value gets its relative error and
     the usual mistake it matches. A function that is, or calls, ``so3lib.B`` (which the
-    exercise rules out) is turned down.
+    exercise rules out), under any name, is turned down.
     """
     name = "B_stable"
     if callable(func):
@@ -267,7 +301,10 @@ def check_B(func):
             return fb
     for x in _B_INPUTS:
         shown = f"B_stable({x:g})"
-        got, fb = _call(func, name, (x,), shown, _B_HINT)
+        with _Watch(B) as watch:
+            got, fb = _call(func, name, (x,), shown, _B_HINT)
+        if watch.seen:
+            return _called(name, "so3lib.B")
         if fb is not None:
             return fb
         problem = _shape_problem(got, (), f"{shown}")

@@ -38,6 +38,17 @@ def _no_zero_case(omega, tau):
     return scale * phi / tau
 
 
+def _pi_rounded(omega, tau):
+    # pi typed as 3.14: right in form, a thousandth off past half a turn
+    phi = np.asarray(omega, float) * tau
+    theta = np.linalg.norm(phi)
+    if theta == 0:
+        return np.zeros(3)
+    r = theta % 6.28
+    scale = r / theta if r <= 3.14 else -(6.28 - r) / theta
+    return scale * phi / tau
+
+
 def _raise(exc):
     def f(omega, tau):
         raise exc
@@ -155,11 +166,21 @@ def test_sign_message_fits_the_mistake():
      if np.linalg.norm(w * t) > 0 else np.zeros(3), "at most pi"),
     (lambda w, t: -_wrapped(w, t) if t < 0 else _wrapped(w, t), "off by a sign"),
     (lambda w, t: 0.5 * _wrapped(w, t), "is not the rotation"),
+    (lambda w, t: (1 + 1e-6) * _wrapped(w, t), r"close, but not accurate.*misses exp\(omega, tau\) by \d\.\de-07"),
+    (_pi_rounded, "close, but not accurate"),
 ])
 def test_wrong_answers_get_a_message(student, says):
     with np.errstate(invalid="ignore", divide="ignore"):
         fb = check_wrapped_velocity(student)
     _assert_not_yet(fb, says)
+
+
+def test_an_inaccurate_answer_is_not_called_omega_itself():
+    # Below half a turn omega is the right answer: an answer near it but not accurate
+    # must not be told it is "omega itself" (the message about the notes' N15 claim).
+    fb = check_wrapped_velocity(lambda w, t: (1 + 1e-6) * _wrapped(w, t))
+    _assert_not_yet(fb, "omega = \\(0, 0, 1\\)")
+    assert "omega itself" not in repr(fb) and "notes' claim" not in repr(fb)
 
 
 def test_zero_rotation_nan_is_reported():

@@ -167,11 +167,12 @@ def _call_logging(calls):
 def _judge(v, omega, tau):
     """None if ``v`` reaches exp(omega, tau) in time tau with the principal angle."""
     theta = float(np.linalg.norm(omega * tau))
-    same = np.abs(exp(v, tau) - exp(omega, tau)).max() < 1e-9
+    miss = float(np.abs(exp(v, tau) - exp(omega, tau)).max())
+    same = miss < 1e-9
     principal = float(np.linalg.norm(v)) * abs(tau) <= np.pi + 1e-9
     if same and principal:
         return None
-    if np.allclose(v, omega, atol=1e-9):
+    if not principal and np.abs(v - omega).max() < 1e-9:   # omega itself, past half a turn
         return ("this is omega itself, the notes' claim that log undoes exp (errata N15). It "
                 f"holds only while |omega| |tau| < pi; here the angle is {theta:.4g} rad, and "
                 "the principal log turns at most pi, the shorter way round, which past half "
@@ -186,6 +187,9 @@ def _judge(v, omega, tau):
             return "it is off by a sign (think of the sign of tau when you divide by it)."
         return ("it is off by a sign: it turns the wrong way round the axis. Past half a "
                 "turn, the shorter turn is about -n, not n.")
+    if miss < 1e-2:
+        return (f"close, but not accurate: exp(v, tau) misses exp(omega, tau) by {miss:.1e} "
+                "(the check allows 1e-9). Is a constant rounded, or a formula approximate?")
     return "exp(v, tau) with your v is not the rotation exp(omega, tau)."
 
 

@@ -79,6 +79,33 @@ def test_so2_log_flipped_sign_and_complex_answers_get_their_own_hint():
     _says(check_so2_log(lambda R: np.log(complex(R[0, 0], R[1, 0]))), "returned a complex number")
 
 
+def test_so2_log_arccos_with_the_sign_of_r21_is_refused_at_a_tiny_angle():
+    """arccos(R11) with R21's sign is right to 1e-15 at the larger angles, but cos(1e-9)
+    rounds to 1: it returns 0 there. The hidden test refuses it; the checker must too."""
+    def arccos_signed(R):
+        if R[1, 0] == 0 and R[0, 0] < 0:
+            return np.pi
+        return np.copysign(np.arccos(R[0, 0]), R[1, 0])
+    _says(check_so2_log(arccos_signed), r"so2.exp\(1e-09\) it returned 0: every digit")
+
+
+def test_so2_log_lost_precision_gets_the_size_of_the_miss():
+    fb = check_so2_log(lambda R: float(np.float32(np.arctan2(R[1, 0] + 0.0, R[0, 0]))))
+    _says(fb, r"miss R's first column by [0-9.]+e-0[5-9], more than the 1e-12")
+
+
+def test_so2_log_other_right_answers_pass():
+    """Any float64 route from the entries that keeps its digits passes: arcsin with the
+    quadrant from R11, or +0.0 added to R21 before atan2."""
+    def from_arcsin(R):
+        a = np.arcsin(R[1, 0])
+        if R[0, 0] < 0:
+            a = np.pi - a
+        return a - 2 * np.pi if a > np.pi else a
+    assert check_so2_log(from_arcsin)
+    assert check_so2_log(lambda R: np.arctan2(R[1, 0] + 0.0, R[0, 0]))
+
+
 def test_so2_log_wrapping_is_required():
     # right in (-pi, pi) except that 4.0 is not wrapped
     def unwrapped(R):
@@ -110,12 +137,26 @@ def test_varying_rate_wrong_answers_get_a_message(answer, says):
     _says(check_varying_rate(answer), says)
 
 
+def test_varying_rate_refuses_a_matrix_that_is_not_a_rotation():
+    """A scaled rotation turns by the right angle; the message says it is no rotation
+    instead of 'turns by 3 rad ... ends elsewhere'."""
+    alpha = OMEGA0 * T_END + ACCEL * T_END ** 2 / 2
+    for answer in (2 * so2.exp(alpha), alpha * so2.J):
+        text = repr(check_varying_rate(answer))
+        _says(check_varying_rate(answer), r"not a rotation: R\^T R differs from I")
+        assert "turns by" not in text, text
+
+
 def test_varying_rate_near_miss_gives_the_size_not_the_angle():
     """An angle a little off would print as the answer's own (3 rad to four digits); the
     message gives the size of the miss instead. A complex number gets its own message."""
     alpha = OMEGA0 * T_END + ACCEL * T_END ** 2 / 2
     text = repr(check_varying_rate(so2.exp(alpha + 1e-6)))
     assert "off by 9.9e-07" in text and "turns by" not in text, text
+    # a left Riemann sum of 1000 steps is 2e-3 off: its angle (2.998) is not printed
+    t = np.arange(1000) * T_END / 1000
+    text = repr(check_varying_rate(so2.exp(np.sum((OMEGA0 + ACCEL * t) * T_END / 1000))))
+    assert "off by 2.2e-03" in text and "2.99" not in text, text
     _says(check_varying_rate(np.exp(1j * alpha)), "complex number.*so2.from_complex")
 
 

@@ -63,10 +63,15 @@ def _not_answered(fb):
 
 # Simplest first: the message names the first input on which an answer goes wrong.
 # -0.7 catches arccos (no sign), 2.5 and -2.5 catch arctan(R21 / R11) (wrong quadrant),
-# 4.0 needs wrapping into (-pi, pi]. Last, the half-turn -np.eye(2): its R21 is the float
-# -0.0, on which np.arctan2 returns -pi, outside (-pi, pi] (notebook 03, section 7).
-_LOG_ANGLES = (0.5, -0.7, 2.5, -2.5, 4.0)
+# 4.0 needs wrapping into (-pi, pi]. 1e-9 catches arccos given the sign of R21: cos(1e-9)
+# rounds to 1, so arccos returns 0 there (the hidden test has the same angle). Last, the
+# half-turn -np.eye(2): its R21 is the float -0.0, on which np.arctan2 returns -pi,
+# outside (-pi, pi] (notebook 03, section 7).
+_LOG_ANGLES = (0.5, -0.7, 2.5, -2.5, 4.0, 1e-9)
 _HALF_TURN = "-np.eye(2)"
+#: cos and sin of the answer must give R's first column to this (float64 gives ~1e-16;
+#: the hidden test asks 1e-12 of the angle itself).
+_LOG_TOL = 1e-12
 
 
 def _try_call(func, *args):
@@ -126,12 +131,13 @@ def check_so2_log(func):
     r"""Exercise 3.1: ``func(R)`` must return the signed angle :math:`\alpha \in (-\pi, \pi]` of a
     planar rotation ``R`` (notebook 03, equation (3.12)).
 
-    Tests the defining property on so2.exp(t) for t = 0.5, -0.7, 2.5, -2.5 and 4.0, and on
-    the half-turn ``-np.eye(2)`` (whose ``R[1, 0]`` is ``-0.0``): the result lies in
-    :math:`(-\pi, \pi]` and its cosine and sine are ``R[0, 0]`` and ``R[1, 0]``. Names the
-    usual slips: arccos of ``R[0, 0]`` (loses the sign), arctan of the ratio (loses the
-    quadrant), a sign flipped by reading ``R[0, 1]``, degrees, a complex logarithm
-    :math:`j\alpha`, and plain ``np.arctan2`` on ``-0.0`` (returns :math:`-\pi`). Refuses a
+    Tests the defining property on so2.exp(t) for t = 0.5, -0.7, 2.5, -2.5, 4.0 and 1e-9,
+    and on the half-turn ``-np.eye(2)`` (whose ``R[1, 0]`` is ``-0.0``): the result lies in
+    :math:`(-\pi, \pi]` and its cosine and sine are ``R[0, 0]`` and ``R[1, 0]`` to 1e-12.
+    Names the usual slips: arccos of ``R[0, 0]`` (loses the sign, and at 1e-9 every digit,
+    even with the sign of ``R[1, 0]`` attached), arctan of the ratio (loses the quadrant), a
+    sign flipped by reading ``R[0, 1]``, degrees, a complex logarithm :math:`j\alpha`, lost
+    precision, and plain ``np.arctan2`` on ``-0.0`` (returns :math:`-\pi`). Refuses a
     function that calls ``so2.log``, which the exercise asks the learner to write.
     """
     name = "so2_log"
@@ -175,7 +181,8 @@ def check_so2_log(func):
         if not np.isfinite(a):
             return Feedback(False, f"Not yet: {name}. On {label} the answer is NaN or inf.")
         alpha = float(a)
-        same = abs(np.cos(alpha) - R[0, 0]) <= 1e-10 and abs(np.sin(alpha) - R[1, 0]) <= 1e-10
+        miss = max(abs(np.cos(alpha) - R[0, 0]), abs(np.sin(alpha) - R[1, 0]))
+        same = miss <= _LOG_TOL
         if same and -np.pi < alpha <= np.pi:
             continue
         if same and t == _HALF_TURN:
@@ -188,6 +195,20 @@ def check_so2_log(func):
                                    "the right rotation, but outside (-pi, pi].\nHint: the "
                                    "principal angle is the one in (-pi, pi]; np.arctan2 "
                                    "returns it directly.")
+        if t == 1e-9 and alpha == 0.0:
+            return Feedback(False, f"Not yet: {name}. On {label} it returned 0: every digit "
+                                   "of this tiny angle is lost. cos(1e-9) = 1 - 5e-19 rounds "
+                                   "to exactly 1.0, so arccos(R[0, 0]) gives 0 whatever sign "
+                                   "you attach.\nHint: the sine R[1, 0] still holds the "
+                                   "angle; use both entries.")
+        if miss < 1e-4:
+            return Feedback(False, f"Not yet: {name}. On {label} its cosine and sine miss R's "
+                                   f"first column by {miss:.1e}, more than the {_LOG_TOL:g} "
+                                   "float64 allows: digits are lost somewhere (single "
+                                   "precision, rounding, or a formula that loses accuracy "
+                                   "at this angle).\nHint: work in float64 from both "
+                                   "entries R[1, 0] and R[0, 0]; a function that takes the "
+                                   "pair (sine, cosine) keeps every digit at every angle.")
         return Feedback(False, f"Not yet: {name}. On {label} it returned {alpha:.6g}, whose "
                                "cosine and sine are not R's first column.\nHint: "
                                + _so2_log_hint(func))
@@ -220,7 +241,9 @@ def check_varying_rate(answer):
     Tests the definition: ``answer`` must agree, within 1e-9, with the solution of
     :math:`\dot R = R\,\omega(t)J`, :math:`R(0) = I`, integrated numerically (RK4).
     Recognises the rate taken at the end or at the start instead of its integral, the
-    transpose, and an angle handed in instead of the matrix.
+    transpose, a matrix that is not a rotation, and an angle handed in instead of the
+    matrix. A near miss (an entry off by less than 0.05) is told its size, not its angle,
+    which would print close to the answer's.
     """
     name = "the rotation R_end at t = T_END"
     hint = ("Integrate the rate: in the plane rotations commute, so only the total angle "
@@ -249,8 +272,16 @@ def check_varying_rate(answer):
     if np.abs(arr - reached).max() <= 1e-9:
         return Feedback(True, f"Correct: {name}. It agrees with the motion integrated step "
                               "by step (RK4).")
+    off_orth = float(np.abs(arr.T @ arr - np.eye(2)).max())
+    det = float(np.linalg.det(arr))
+    if off_orth > 1e-6 or abs(det - 1.0) > 1e-6:
+        return Feedback(False, f"Not yet: {name}. Your matrix is not a rotation: R^T R "
+                               f"differs from I by {off_orth:.2g} and det R = {det:.4g}; a "
+                               "rotation has R^T R = I and det R = 1.\nHint: build it with "
+                               "so2.exp(angle), or as [[cos, -sin], [sin, cos]] of one "
+                               "angle.")
     miss = float(np.abs(arr - reached).max())
-    if miss < 1e-3:
+    if miss < 0.05:
         # A near miss: its angle would print as the answer's, so give the size of the miss.
         why = (f"Your matrix is close, but an entry is off by {miss:.1e}, more than the 1e-9 "
                "the check allows: compute the angle exactly (the integral in closed form), "

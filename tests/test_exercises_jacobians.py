@@ -177,3 +177,14 @@ def test_module_exposes_no_answer():
                                   "check_ominus_jacobians"]
     public = [n for n in dir(ex) if not n.startswith("_") and callable(getattr(ex, n))]
     assert set(public) <= set(ex.__all__) | {"Feedback", "exp", "hat", "never_raises", "math"}
+
+
+def test_C_stable_reference_is_mpmath_not_the_library():
+    """The checker's reference is (t - sin t)/t^3 in mpmath, independent of so3lib.C."""
+    import mpmath as mp
+    for t in (1e-300, 1e-30, 1e-8, 0.1, 2.0, math.pi, 100.0, -0.5):
+        with mp.workdps(700):                  # 1e-300: t - sin t cancels 600 digits
+            x = mp.mpf(abs(t))
+            want = float((x - mp.sin(x)) / x**3)
+        assert ex._C_ref(t) == pytest.approx(want, rel=1e-15, abs=0)
+    assert "_C_lib(t)" not in open(ex.__file__).read()

@@ -7,6 +7,7 @@ import re
 
 import numpy as np
 import pytest
+import scipy.linalg
 from checker_support import not_written as _not_written
 from checker_support import says_for as _says
 
@@ -194,6 +195,53 @@ def _loop_of_products(a, p):
     return (0.0, np.sum(M * H) / np.sum(H * H), np.sum(M * H2) / np.sum(H2 * H2))
 
 
+def _hand_hat(a):
+    a = np.asarray(a, dtype=float)
+    return np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+
+
+def _fit(H, M):
+    # the three coefficients of M on I, H, H^2, by the normal equations
+    basis = np.stack([np.eye(3).ravel(), H.ravel(), (H @ H).ravel()], axis=1)
+    return tuple(np.linalg.solve(basis.T @ basis, basis.T @ M.ravel()))
+
+
+def _fractional_pinv(a, p):
+    # scipy's matrix power and a pseudo-inverse fit: a matrix route by other names
+    H = _hand_hat(a)
+    M = np.real(scipy.linalg.fractional_matrix_power(H, p)) if p else np.eye(3)
+    basis = np.stack([np.eye(3).ravel(), H.ravel(), (H @ H).ravel()], axis=1)
+    return tuple(np.linalg.pinv(basis) @ M.ravel())
+
+
+def _loop_solve(a, p):
+    H, M = _hand_hat(a), np.eye(3)
+    for _ in range(p):
+        M = M @ H
+    return _fit(H, M)
+
+
+def _eigen(a, p):
+    H = _hand_hat(a)
+    w, V = np.linalg.eig(H)
+    M = np.real(V @ np.diag(w ** p) @ np.linalg.inv(V))
+    return (1.0, 0.0, 0.0) if p == 0 else (0.0, np.sum(M * H) / np.sum(H * H),
+                                           np.sum(M * (H @ H)) / np.sum((H @ H) ** 2))
+
+
+def _own_solve():
+    # a notebook whose helper, the formula, happens to be called `solve`
+    space = {"np": np}
+    exec("def solve(a, p):\n"
+         "    if p == 0:\n"
+         "        return (1.0, 0.0, 0.0)\n"
+         "    c = (-1) ** ((p - 1) // 2) * (a @ a) ** ((p - 1) // 2)\n"
+         "    return (0.0, c, 0.0) if p % 2 else (0.0, 0.0, c)\n"
+         "def power_coefficients(a, p):\n"
+         "    return solve(np.asarray(a, dtype=float), p)\n", space)
+    return space["power_coefficients"]
+
+
 def test_power_coefficients_right_answers_pass():
     fb = check_power_coefficients(_student)
     assert fb and repr(fb).startswith("Correct: power_coefficients"), repr(fb)
@@ -207,6 +255,9 @@ def test_power_coefficients_right_answers_pass():
     (_via_helper, r"hat, lstsq, matrix_power \(inside _fitted\)"),
     (_renamed, "matrix_power"),
     (_closure_route(), "cross, matrix_power"),
+    (_fractional_pinv, "fractional_matrix_power, pinv"),
+    (_loop_solve, r"solve \(inside _fit\)"),
+    (_eigen, "eig, inv"),
 ])
 def test_power_coefficients_refuses_a_matrix_route(student, names):
     _says(check_power_coefficients(student), "power_coefficients",
@@ -217,6 +268,9 @@ def test_power_coefficients_follows_helpers_without_false_alarms():
     # a learner's own helper that computes the formula (here the answer itself, by
     # recursion) is followed and passes
     fb = check_power_coefficients(_recursive)
+    assert fb and repr(fb).startswith("Correct: power_coefficients"), repr(fb)
+    # a helper named like a matrix route is the learner's own: followed, not refused
+    fb = check_power_coefficients(_own_solve())
     assert fb and repr(fb).startswith("Correct: power_coefficients"), repr(fb)
 
 
@@ -258,14 +312,25 @@ def _uses_norm_not_square(a, p):
     (lambda a, p: (np.nan, 0, 0), "NaN or inf"),
     (lambda a, p: None, "returned None"),
     (_forgets_identity, r"power_coefficients\(.*, 0\)(.|\n)*hat\(a\)\^0 is the identity"),
-    (_wrong_sign, r"p = 3 is odd"),
+    (_wrong_sign, r"minus hat\(a\)\^3(.|\n)*sign is wrong(.|\n)*p = 3 is odd"),
     (_uses_norm_not_square, r"p = 3 is odd(.|\n)*\(a @ a\)\*\*k|p = 4 is even"),
 ])
 def test_power_coefficients_wrong_answers_get_a_message(student, pattern):
     _says(check_power_coefficients(student), "power_coefficients", pattern)
 
 
-@pytest.mark.parametrize("student", [_forgets_identity, _wrong_sign, _uses_norm_not_square])
+def _off_by_one(a, p):
+    c = np.asarray(_student(a, p), dtype=float)
+    return tuple(c + (c != 0)) if p else (1.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("student", [_forgets_identity, _wrong_sign, _uses_norm_not_square,
+                                     _off_by_one, lambda a, p: (0.0, 1.0, 0.0)])
 def test_power_coefficients_messages_show_no_expected_coefficients(student):
     text = repr(check_power_coefficients(student))
     assert "(1, 0, 0)" not in text and "expected" not in text, text
+    # nothing measured against the answer: from the size of the difference and the
+    # learner's own coefficient, the right one could be worked out. Only the input shown
+    # (a and p) and the hint's small integers may appear.
+    numbers = re.findall(r"\d+\.\d*[1-9]\d*|\de[+-]?\d+", text.split("\nHint:")[0])
+    assert all(x in ("0.5", "0.25", "0.6", "0.8") for x in numbers), text

@@ -16,11 +16,11 @@ Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises. A 
 holds no answer: it tests the defining property of what the learner hands in (``S`` is
 symmetric, ``K`` skew and ``S + K = M``; ``c hat(a)`` equals ``hat(a)^5`` multiplied out
 with a matrix power) and never prints the value it is looking for. The checker of 1.3
-also refuses code that calls a matrix route (``matrix_power``, ``lstsq``, ...), directly, through
-a function of the learner's own or under another name, since the exercise asks for the
-formula. When an answer is wrong it names the usual mistake it matches, with a hint; a
-wrong number is never measured against the right one in the message (that would give it
-away).
+also refuses code that calls a matrix route (``matrix_power``, ``eig``, a fit with ``lstsq``,
+``solve`` or ``pinv``, ...), directly, through a function of the learner's own or under
+another name, since the exercise asks for the formula. When an answer is wrong it names
+the usual mistake it matches, with a hint; a wrong answer is never measured against the
+right one in the message (the size of the difference would give the answer away).
 """
 
 import numpy as np
@@ -224,8 +224,11 @@ def _power_hint(p):
             "a multiple of hat(a)^2 only (c0 = c1 = 0). Note |a|^(2k) = (a @ a)**k.")
 
 
-#: Names whose use means the matrix power is computed, not the formula (exercise 1.3).
-_MATRIX_ROUTE = frozenset({"matrix_power", "lstsq", "hat", "cross", "expm"})
+#: Names whose use means the matrix power is computed (or fitted), not the formula
+#: (exercise 1.3): powers and functions of a matrix, the ways to fit three coefficients to
+#: one, and the ready-made hat (``hat``, or ``cross`` with the identity).
+_MATRIX_ROUTE = frozenset({"matrix_power", "fractional_matrix_power", "expm", "eig",
+                           "lstsq", "solve", "pinv", "inv", "hat", "cross"})
 
 
 def _matrix_route(func):
@@ -236,7 +239,9 @@ def _matrix_route(func):
     functions it closes over, and the functions of the learner's namespace (its
     ``__globals__``) that it names, recursively. A name bound there to a matrix route
     under another name (``mp = np.linalg.matrix_power``) counts by the function's own
-    ``__name__``. Both sets are empty when ``func`` has no code."""
+    ``__name__``; a function of the learner's own is followed, never counted by its name
+    (a helper called ``solve`` that computes the formula is fine). Both sets are empty when
+    ``func`` has no code."""
     code = getattr(func, "__code__", None)
     if code is None:
         return set(), set()
@@ -244,14 +249,18 @@ def _matrix_route(func):
     found, helpers, seen = set(), set(), set()
     todo = [(code, None)]
 
+    def own(obj):
+        """A function defined in the learner's namespace."""
+        return getattr(obj, "__globals__", None) is space and hasattr(obj, "__code__")
+
     def follow(obj, name, via):
-        """A matrix route renamed is a hit; a function of the learner's is followed."""
-        if getattr(obj, "__name__", None) in _MATRIX_ROUTE:
+        """A function of the learner's is followed; a matrix route renamed is a hit."""
+        if own(obj):
+            todo.append((obj.__code__, name))
+        elif getattr(obj, "__name__", None) in _MATRIX_ROUTE:
             found.add(obj.__name__)
             if via is not None:
                 helpers.add(via)
-        elif getattr(obj, "__globals__", None) is space and hasattr(obj, "__code__"):
-            todo.append((obj.__code__, name))
 
     for cell in getattr(func, "__closure__", None) or ():
         try:
@@ -264,7 +273,7 @@ def _matrix_route(func):
         if id(c) in seen:
             continue
         seen.add(id(c))
-        hits = _MATRIX_ROUTE & set(c.co_names)
+        hits = {n for n in _MATRIX_ROUTE & set(c.co_names) if not own(space.get(n))}
         if hits:
             found.update(hits)
             if via is not None:
@@ -288,11 +297,16 @@ def check_power_coefficients(func):
     for that ``p``.
 
     The exercise asks for the formulas (1.7) and (1.8), so a function whose code names a
-    matrix route, ``matrix_power``, ``lstsq``, ``hat``, ``cross`` or ``expm``, is refused:
-    in its own code, in a function defined inside it, in a function of the notebook it
-    calls, or under another name (see :func:`_matrix_route`). A hand-written loop of ``@``
-    products is not seen, nor is ``matmul``: ``a @ a`` (or ``np.matmul(a, a)``) is also how
-    the formula computes ``|a|^2``.
+    matrix route (:data:`_MATRIX_ROUTE`: a matrix power or function, ``eig``, a fit with
+    ``lstsq``, ``solve``, ``pinv`` or ``inv``, ``hat``, ``cross``) is refused: in its own
+    code, in a function defined inside it, in a function of the notebook it calls, or
+    under another name (see :func:`_matrix_route`). A hand-written loop of ``@`` products
+    is not seen, nor is ``matmul``: ``a @ a`` (or ``np.matmul(a, a)``) is also how the
+    formula computes ``|a|^2``.
+
+    A wrong answer is named (the sign, or simply "not the power") and followed by the hint
+    for that ``p``; the size of the difference is not printed, since from it and the
+    learner's own coefficient the right one could be worked out.
     """
     name = "power_coefficients"
     used, helpers = _matrix_route(func)
@@ -319,10 +333,12 @@ def check_power_coefficients(func):
         power = np.linalg.matrix_power(H, p)
         combo = c[0] * np.eye(3) + c[1] * H + c[2] * (H @ H)
         size = max(1.0, float(np.abs(power).max()))
-        off = float(np.abs(combo - power).max()) / size
-        if off > 1e-10:
-            return _fail(name, f"On {shown}, c0 I + c1 hat(a) + c2 hat(a)^2 differs from "
-                               f"hat(a)^{p} (a matrix power) by {off:.2g} relative to "
-                               "its largest entry.", _power_hint(p))
+        if float(np.abs(combo - power).max()) > 1e-10 * size:
+            if float(np.abs(combo + power).max()) <= 1e-10 * size:
+                why = f"is minus hat(a)^{p} (multiplied out): the sign is wrong."
+            else:
+                why = f"is not hat(a)^{p} (multiplied out)."
+            return _fail(name, f"On {shown}, c0 I + c1 hat(a) + c2 hat(a)^2 {why}",
+                         _power_hint(p))
     return Feedback(True, f"Correct: {name}. c0 I + c1 hat(a) + c2 hat(a)^2 equals the matrix "
                           "power for p = 0, ..., 12 and two vectors a, and for p = 400.")

@@ -97,7 +97,8 @@ def _call(func, name, label, *args):
 # --------------------------------------------------------------------------- 4.1
 
 def notes_recipe(R, tau=1.0):
-    r"""The lecture notes' logarithm, exactly as printed (notebook 04, (4.5) to (4.7)):
+    r"""The lecture notes' logarithm (notebook 04, (4.5) to (4.7)), their steps as printed
+    except for :math:`\omega = \sigma n` in place of their :math:`\tau n` (errata N13):
 
     .. math:: \sigma = \frac1\tau\arccos\frac{\operatorname{tr}R - 1}{2},\quad
               n = \frac{(R - R^T)^\vee}{2\sin(\sigma\tau)},\quad

@@ -112,6 +112,13 @@ def _right_side(Rs, times, t):
     return exp(log(Rs[i].T @ Rs[i + 1]), u) @ Rs[i]
 
 
+def _world_step_on_the_right(Rs, times, t):
+    # the world-frame step Log(R_(i+1) R_i^T) multiplied on the body side of R_i
+    i = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
+    u = (t - times[i]) / (times[i + 1] - times[i])
+    return Rs[i] @ exp(log(Rs[i + 1] @ Rs[i].T), u)
+
+
 def _not_divided(Rs, times, t):
     i = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
     return Rs[i] @ exp(log(Rs[i].T @ Rs[i + 1]), t - times[i])
@@ -133,6 +140,7 @@ def test_keyframes_right_answers_pass():
     (_one_geodesic, "one geodesic from the first keyframe to the last"),
     (_equal_spacing, "equally spaced"),
     (_right_side, "on the right"),
+    (_world_step_on_the_right, "seen from the world frame"),
     (lambda Rs, times, t: Rs[0], "jumps from keyframe to keyframe|at a keyframe"),
     (_not_divided, "divide it by the segment's duration"),
     (lambda Rs, times, t: 2 * _keyframe_path(Rs, times, t), "not a rotation"),

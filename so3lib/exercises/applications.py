@@ -18,8 +18,8 @@ Each checker returns a :class:`so3lib.exercises.Feedback` and never raises. It t
 property that defines a right answer (the path passes through every keyframe and turns at
 a constant rate about one axis between two of them; the weighted attitude errors about
 the mean sum to zero), names the usual mistakes (the entrywise blend, one geodesic for the
-whole path, times taken as equally spaced, the relative rotation on the wrong side, the
-chordal mean) and never prints the expected answer. The graded answers live in the
+whole path, times taken as equally spaced, the relative rotation on the wrong side or
+measured in the wrong frame, the chordal mean) and never prints the expected answer. The graded answers live in the
 notebook's hidden tests, not here.
 """
 
@@ -159,6 +159,10 @@ def _judge_keyframes(got, args):
     if _close(got, exp(step, u) @ Ra, 1e-8):
         return ("you multiplied R_i on the right. log(R_i^T R_(i+1)) is the step seen from "
                 "the body at R_i, so R_i goes on the left.")
+    if _close(got, Ra @ exp(log(Rb @ Ra.T), u), 1e-8):
+        return ("you turned R_i on the right by the step seen from the world frame, "
+                "log(R_(i+1) R_i^T). On the right of R_i goes the step seen from the body, "
+                "log(R_i^T R_(i+1)); the world-frame step goes on the left of R_i.")
     if _close(got, Ra @ exp(step, 1 - u), 1e-8):
         return "the segment runs backwards: at t = t_i the path must be at R_i."
     if times[i + 1] - times[i] != 1 and _close(got, Ra @ exp(step, t - times[i]), 1e-8):

@@ -79,6 +79,7 @@ def test_fifth_power_right_answer_passes():
     (-196, "wrong sign"),
     (-14, "factor of hat\\(a\\)\\^3"),
     (14 ** 4, "power of \\|a\\|"),
+    (14 ** 3, "power of \\|a\\|"),
     (100, "is not hat\\(a\\)\\^5(.|\n)*Start from the Lemma"),
     (195.99, "is not hat\\(a\\)\\^5(.|\n)*close, but(.|\n)*whole number"),
     ("196x", "not a number"),

@@ -199,7 +199,7 @@ def check_fifth_power(answer):
     elif np.isclose(abs(x), n2):
         hint = ("That is (up to sign) the factor of hat(a)^3 = -|a|^2 hat(a). Apply "
                 "the Lemma once more: hat(a)^5 = hat(a)^3 hat(a)^2.")
-    elif any(np.isclose(abs(x), v) for v in (n2 ** 1.5, n2 ** 2.5, n2 ** 4, n2 ** 5)):
+    elif any(np.isclose(abs(x), v) for v in (n2 ** 1.5, n2 ** 2.5, n2 ** 3, n2 ** 4, n2 ** 5)):
         hint = ("Check the power of |a|: hat(a)^(2k+1) = (-1)^k |a|^(2k) hat(a), and "
                 "5 = 2k + 1 gives k = 2, so the factor is |a|^4 = (|a|^2)^2.")
     why = f"With c = {x:.12g}, c hat(a) is not hat(a)^5 (multiplied out)."

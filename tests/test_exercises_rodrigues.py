@@ -120,6 +120,7 @@ def test_naive_B_digits_predicted_and_measured_answers_pass():
     ("small", "one number"),
     (-1e-4, "positive angle"),
     (float("nan"), "positive angle"),
+    ("1e-4", "one number"),
     (2.0, "accurate to about 16 digits"),
     (1e-12, "returns 0"),
     (1e-8, "returns 0|too small"),
@@ -128,6 +129,11 @@ def test_naive_B_digits_predicted_and_measured_answers_pass():
 ])
 def test_naive_B_digits_wrong_answers_get_a_message(answer, pattern):
     _says(check_naive_B_digits(answer), "x_8_digits", pattern)
+
+
+def test_naive_B_digits_never_says_minus_zero_digits():
+    text = repr(check_naive_B_digits(1e-8))
+    assert "about 0.0 correct digits" in text and "-0.0" not in text, text
 
 
 def test_naive_B_digits_message_does_not_give_the_t():
@@ -232,6 +238,24 @@ def test_B_refuses_a_Taylor_branch_kept_just_too_long(student, x_shown):
     _says(fb, "B_stable", r"B_stable\(-?" + x_shown + r"\)(.|\n)*Taylor polynomial")
     text = repr(fb)
     assert "expected" not in text and "0.49" not in text, text
+
+
+def test_B_names_no_mistake_it_cannot_tell_apart():
+    """At x = 1 a denominator x equals x^2, and a 0 returned at 1e-300 matches
+    (1 - cos x)/x there: neither may be called "the denominator is x^2, not x"."""
+    single = check_B(lambda x: float(np.float32(_taylor_below(1e-4)(x))))     # float32
+    _says(single, "B_stable", r"B_stable\(1\) has a relative error")
+    assert "denominator" not in repr(single), repr(single)
+
+    def zero_at_tiny(x):
+        return 0.0 if 0 < abs(x) < 1e-200 else _taylor_below(1e-4)(x)
+    tiny = check_B(zero_at_tiny)
+    _says(tiny, "B_stable", r"B_stable\(1e-300\) has a relative error")
+    assert "denominator" not in repr(tiny), repr(tiny)
+
+
+def test_B_refuses_a_string():
+    _says(check_B(lambda x: str(_taylor_below(1e-4)(x))), "B_stable", "is a str, not a number")
 
 
 def test_B_message_shows_no_expected_value():

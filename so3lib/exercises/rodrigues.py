@@ -213,6 +213,9 @@ def check_naive_B_digits(answer):
     name = "x_8_digits"
     if answer is None or answer is Ellipsis:
         return _fail(name, _NOT_ANSWERED)
+    if isinstance(answer, (str, bytes)):
+        return _fail(name, f"The answer should be one number x; got a {type(answer).__name__}.",
+                     _DIGITS_HINT)
     try:
         x = float(np.asarray(answer, dtype=float))
     except Exception:  # noqa: BLE001 -- a checker never raises
@@ -227,7 +230,7 @@ def check_naive_B_digits(answer):
         return _fail(name, f"At x = {x:.3g}, cos x rounds to exactly 1 and the naive formula "
                            "returns 0: no correct digit left. Look at larger x.", _DIGITS_HINT)
     worst = float(_naive_B_error(np.geomspace(x / DIGITS_WINDOW, x * DIGITS_WINDOW, 201)).max())
-    digits = -math.log10(worst) if worst > 0 else 17.0
+    digits = max(0.0, -math.log10(worst)) if worst > 0 else 17.0    # never "-0.0 digits"
     lo, hi = DIGITS_BAND
     if lo <= worst <= hi:
         return Feedback(True, f"Correct: {name}. Near x = {x:.3g} the naive B's worst relative "
@@ -257,28 +260,37 @@ _B_HINT = ("Avoid the subtraction 1 - cos(x) for small x: use the half-angle for
            "is fine too, but only where its first left-out term is below 1e-12 of B).")
 
 
-def _diagnose_B(got, x):
+def _diagnose_B(got, x, ref):
+    """The usual mistake that ``got`` matches at ``x``, or None. A mistake is named only
+    where its value differs from the true ``ref``: at ``x = 1`` a denominator ``x`` equals
+    ``x^2``, and near 0 a Taylor polynomial is right, so neither can be told apart there."""
     with np.errstate(all="ignore"):
         x64 = np.float64(x)
         naive = (1.0 - np.cos(x64)) / x64 ** 2
         taylor = 0.5 - x64 ** 2 / 24.0
         taylor3 = taylor + x64 ** 4 / 720.0
-    if x != 0 and _close(got, naive, atol=0, rtol=1e-15):
+        over_x = (1 - math.cos(x)) / x if x != 0 else ref
+
+    def apart(alt):                 # the mistake gives a value the checker refuses
+        return not _close(alt, ref, atol=0, rtol=_B_RTOL)
+
+    if x != 0 and apart(naive) and _close(got, naive, atol=0, rtol=1e-15):
         return ("This is the naive (1 - cos x)/x^2. Near x = 0, cos(x) rounds to a number "
                 "next to 1 and the subtraction cancels almost every digit (at x = 1e-8 it "
                 "gives 0). " + _B_HINT)
-    if x != 0 and _close(got, taylor3, atol=0, rtol=1e-15) and taylor3 != taylor:
+    if x != 0 and apart(taylor3) and _close(got, taylor3, atol=0, rtol=1e-15) \
+            and taylor3 != taylor:
         return ("A Taylor polynomial here: its error is about its first left-out term, "
                 "x^6/40320 for 1/2 - x^2/24 + x^4/720 (relative x^6/20160), which is above "
                 "1e-12 once |x| > 0.05. Use it only below that, and the half-angle form "
                 "elsewhere.")
-    if x != 0 and _close(got, taylor, atol=0, rtol=1e-15):
+    if x != 0 and apart(taylor) and _close(got, taylor, atol=0, rtol=1e-15):
         return ("A Taylor polynomial here: its error is about its first left-out term, "
                 "x^4/720 for 1/2 - x^2/24 (relative x^4/360), which is above 1e-12 once "
                 "|x| > 4e-3. Use it only below that, and the half-angle form elsewhere.")
-    if x != 0 and _close(got, math.sin(x) / x):
+    if x != 0 and apart(math.sin(x) / x) and _close(got, math.sin(x) / x):
         return "That is A(x) = sin(x)/x, the other coefficient. B(x) = (1 - cos x)/x^2."
-    if x != 0 and _close(got, (1 - math.cos(x)) / x):
+    if x != 0 and over_x != 0 and apart(over_x) and _close(got, over_x):
         return "The denominator is x^2, not x."
     return None
 
@@ -307,14 +319,15 @@ def check_B(func):
             return _called(name, "so3lib.B")
         if fb is not None:
             return fb
-        problem = _shape_problem(got, (), f"{shown}")
+        problem = (f"{shown} is a {type(got).__name__}, not a number."
+                   if isinstance(got, (str, bytes)) else _shape_problem(got, (), f"{shown}"))
         if problem:
             return _fail(name, problem, "Return one float.")
         ref = float(B(x))
         rel = abs(float(got) - ref) / ref
         if rel > _B_RTOL:
             return _fail(name, f"{shown} has a relative error of {rel:.1e}; the exercise asks "
-                               f"for {_B_RTOL:.0e}.", _diagnose_B(got, x) or _B_HINT)
+                               f"for {_B_RTOL:.0e}.", _diagnose_B(got, x, ref) or _B_HINT)
     return Feedback(True, f"Correct: {name}. It is accurate to 1e-12 (relative) at "
                           f"{len(_B_INPUTS)} values of x, from 0 and 1e-300 through a dense "
                           "sweep of the middle range to 30.")

@@ -124,6 +124,11 @@ def _not_divided(Rs, times, t):
     return Rs[i] @ exp(log(Rs[i].T @ Rs[i + 1]), t - times[i])
 
 
+def _projected_blend(Rs, times, t):
+    U, _, Vt = np.linalg.svd(_blend(Rs, times, t))
+    return U @ Vt
+
+
 def test_keyframes_right_answers_pass():
     fb = check_keyframes(_keyframe_path)
     assert fb and repr(fb).startswith("Correct: keyframe_path")
@@ -143,6 +148,7 @@ def test_keyframes_right_answers_pass():
     (_world_step_on_the_right, "seen from the world frame"),
     (lambda Rs, times, t: Rs[0], "jumps from keyframe to keyframe|at a keyframe"),
     (_not_divided, "divide it by the segment's duration"),
+    (_projected_blend, "pushed back onto SO\\(3\\) by an SVD"),
     (lambda Rs, times, t: 2 * _keyframe_path(Rs, times, t), "not a rotation"),
     (lambda Rs, times, t: _keyframe_path(Rs, times, t) @ exp([0.0, 0.0, 0.01]), "rad away"),
 ])
@@ -216,6 +222,8 @@ def test_steps_needed_a_case_where_the_prediction_is_one_too_many():
     (lambda v, T, tol: _steps_needed(v, T, np.sqrt(1 + tol) - 1), "squared length"),
     (lambda v, T, tol: 10**6, "smallest N"),
     (_predicted, "the prediction .* rounded up"),
+    (lambda v, T, tol: max(1, int(np.floor((v * T) ** 2 / (2 * np.log1p(tol))))),
+     r"length 1 \+ tol \+ \d"),
 ])
 def test_steps_needed_wrong_answers_get_a_message(student, says):
     fb = check_steps_needed(student)
@@ -247,6 +255,8 @@ def test_velocity_jump_right_answers_pass():
     (lambda Rs, times: log(Rs[0].T @ Rs[2]) / (times[2] - times[0])
      - log(Rs[0].T @ Rs[1]) / (times[1] - times[0]), "from the middle keyframe"),
     (lambda Rs, times: np.zeros(3), "not the difference"),
+    (lambda Rs, times: (log(Rs[1].T @ Rs[2]) - log(Rs[0].T @ Rs[1])) / (times[2] - times[1]),
+     "divided by the time|its own segment's duration"),
 ])
 def test_velocity_jump_typical_mistakes_are_named(student, says):
     fb = check_velocity_jump(student)

@@ -19,8 +19,8 @@ property that defines a right answer (the path passes through every keyframe and
 a constant rate about one axis between two of them; the weighted attitude errors about
 the mean sum to zero), names the usual mistakes (the entrywise blend, one geodesic for the
 whole path, times taken as equally spaced, the relative rotation on the wrong side or
-measured in the wrong frame, the chordal mean) and never prints the expected answer. The graded answers live in the
-notebook's hidden tests, not here.
+measured in the wrong frame, the projected blend, the chordal mean) and never prints the
+expected answer. The graded answers live in the notebook's hidden tests, not here.
 """
 
 import numpy as np
@@ -163,6 +163,11 @@ def _judge_keyframes(got, args):
         return ("you turned R_i on the right by the step seen from the world frame, "
                 "log(R_(i+1) R_i^T). On the right of R_i goes the step seen from the body, "
                 "log(R_i^T R_(i+1)); the world-frame step goes on the left of R_i.")
+    U, _, Vt = np.linalg.svd((1 - u) * Ra + u * Rb)
+    if not _close(got, Ra @ exp(step, u), 1e-8) and _close(got, U @ Vt, 1e-8):
+        return ("this is the entrywise blend pushed back onto SO(3) by an SVD: a rotation, "
+                "but it does not turn at a constant rate (section 1). Move along the "
+                "geodesic (5.2) of the segment instead.")
     if _close(got, Ra @ exp(step, 1 - u), 1e-8):
         return "the segment runs backwards: at t = t_i the path must be at R_i."
     if times[i + 1] - times[i] != 1 and _close(got, Ra @ exp(step, t - times[i]), 1e-8):
@@ -216,8 +221,8 @@ def _judge_steps(got, args):
     N = int(got)
     length = _euler_length(speed, T, N)
     if length > 1 + tol:
-        return (f"after your N = {N} Euler steps e_x has length {length:.6g}, more than "
-                f"1 + tol: N is too small.")
+        return (f"after your N = {N} Euler steps e_x has length 1 + tol + "
+                f"{length - 1 - tol:.2g}, more than 1 + tol: N is too small.")
     if N > 1 and _euler_length(speed, T, N - 1) <= 1 + tol:
         if _euler_length(speed, T, N) ** 2 <= 1 + tol < _euler_length(speed, T, N - 1) ** 2:
             return ("this keeps the squared length within 1 + tol; the exercise asks for "
@@ -274,10 +279,14 @@ def _judge_jump(got, args):
     if _close(got, Rs[1] @ (after - before), 1e-9):
         return ("this is the jump seen from the world frame (R_1 times the body-frame jump). "
                 "The exercise asks for the body frame at the middle keyframe.")
-    if _close(got, log(Rs[1].T @ Rs[2]) - log(Rs[0].T @ Rs[1]), 1e-9):
+    steps = log(Rs[1].T @ Rs[2]) - log(Rs[0].T @ Rs[1])
+    if np.any(np.abs(steps) > 1e-9) and _close(got, steps, 1e-9):
         return ("this is the change of the rotation vectors of the steps; a velocity is a "
                 "rotation vector divided by the time the step takes, and the two segments "
                 "take different times.")
+    if d1 != d2 and not np.any(np.abs(steps) > 1e-9) and _close(got, np.zeros(3), 1e-9):
+        return ("the two steps have the same rotation vector, but the segments take "
+                "different times: divide each step by its own segment's duration.")
     if _close(got, log(Rs[0].T @ Rs[2]) / (times[2] - times[0]) - before, 1e-9):
         return "the second segment runs from the middle keyframe to the last, not from the first."
     return ("that is not the difference of the body angular velocities of the two "

@@ -116,6 +116,8 @@ def _skew_axis(R):
     (lambda R: 2 * _halfturn_axis(R), "right direction, but length 2, not 1"),
     (lambda R: np.array([1.0, 0.0, 0.0]) if R[2, 2] > 0.9 else _halfturn_axis(R),
      "every column of R \\+ I is a multiple of n"),
+    (lambda R: so3lib.log(R) / np.pi, "It calls log, a logarithm"),
+    (lambda R: _halfturn_axis(R) if so3lib.angle(R) > 3 else None, "It calls angle"),
 ])
 def test_halfturn_axis_wrong_answers_get_a_message(student, says):
     _says(check_halfturn_axis(student), says)
@@ -144,6 +146,14 @@ def _all_logs(R, bound):
     return [(theta + 2 * np.pi * k) * phi / theta for k in ks if abs(theta + 2 * np.pi * k) < bound]
 
 
+def _all_logs_ks(R, bound, kmax):
+    """A range of k that is too short: |k| <= kmax."""
+    phi = so3lib.log(R)
+    theta = np.linalg.norm(phi)
+    return [(theta + 2 * np.pi * k) * phi / theta for k in range(-kmax, kmax + 1)
+            if abs(theta + 2 * np.pi * k) < bound]
+
+
 def test_all_logs_right_answer_passes_in_any_order():
     fb = check_all_logs(_all_logs)
     assert fb and repr(fb).startswith("Correct: all_logs")
@@ -165,6 +175,8 @@ def test_all_logs_right_answer_passes_in_any_order():
     (lambda R, b: [so3lib.log(R)] * 5, "the same logarithm"),
     (lambda R, b: _all_logs(R, b + 10), "not below the bound"),
     (lambda R, b: [["a", "b", "c"]], "not an array of numbers"),
+    (lambda R, b: _all_logs_ks(R, b, int(b / (2 * np.pi))), "How far must k run"),
+    (lambda R, b: _all_logs_ks(R, b, 3), "How far must k run"),
 ])
 def test_all_logs_wrong_answers_get_a_message(student, says):
     _says(check_all_logs(student), says)

@@ -10,7 +10,8 @@ exercise       the learner writes                          checker
                vector of length below ``bound`` whose
                exponential is ``R``, one per row
 4.3            ``halfturn_axis(R)``, the unit axis of a    :func:`check_halfturn_axis`
-               rotation by pi (either sign)
+               rotation by pi (either sign), without
+               calling a logarithm
 4.4            ``log_at_pi(n)``, the logarithm that        :func:`check_log_at_pi`
                ``so3lib.log`` returns for the half-turn
                ``2 n n^T - I``, predicted without
@@ -198,10 +199,14 @@ def check_nan_rotation(R_nan):
 
 # --------------------------------------------------------------------------- 4.2
 
+# The last two catch a range of k that is too short: a bound of 40 rad needs k from -6
+# to 5, and a turn by 3 rad below a bound of 10 needs k = -2, which a range of
+# |k| <= int(bound / (2 pi)) (here 1) misses.
 _ALL_LOG_INPUTS = [
     (exp([0.0, 0.0, 1.0]), 7.0),
     (exp([0.3, -0.4, 1.2]), 10.0),
-    (exp(2.5 * np.array([2.0, -1.0, 2.0]) / 3.0), 20.0),
+    (exp(2.5 * np.array([2.0, -1.0, 2.0]) / 3.0), 40.0),
+    (exp([0.0, 3.0, 0.0]), 10.0),
 ]
 
 
@@ -220,7 +225,9 @@ def check_all_logs(func):
     Tests the defining properties: each row is finite, shorter than ``bound``, along the
     rotation's axis and has ``exp(row) == R``; no two rows are equal; and there are as
     many rows as integers ``k`` with :math:`|\theta + 2\pi k| <` ``bound``. Recognises the
-    usual slip: only ``k >= 0``, forgetting the logarithms that point along ``-n``.
+    usual slip: only ``k >= 0``, forgetting the logarithms that point along ``-n``. A
+    range of ``k`` that stops one short (``|k| <= bound / 2 pi``) or is fixed in advance
+    misses a row on the last two rotations.
     """
     name = "all_logs"
     if func is None or func is Ellipsis or not callable(func):
@@ -273,7 +280,8 @@ def check_all_logs(func):
                     "reaches the same R.")
         else:
             hint = ("The logarithms are (theta + 2 pi k) n for every integer k, negative "
-                    "ones included; keep those with |theta + 2 pi k| < bound.")
+                    "ones included; keep those with |theta + 2 pi k| < bound. How far must "
+                    "k run? |k| can reach (bound + theta) / (2 pi), more than bound / (2 pi).")
         found = f"{len(a)} logarithm" + ("" if len(a) == 1 else "s")
         return Feedback(False, f"Not yet: {name}. {label} returned {found}, "
                                "all right, but some logarithms shorter than the bound are "
@@ -315,18 +323,24 @@ def check_halfturn_axis(func):
 
     Tests the defining property: ``n`` has length 1 and ``2 n n^T - I`` is ``R``.
     Recognises a column that is not normalised, :math:`\pi n` in place of ``n``, and the
-    zero column (NaN) that comes from always taking the first column.
+    zero column (NaN) that comes from always taking the first column. Refuses a call to a
+    logarithm (``log(R) / pi`` would do), watched as in exercise 4.4.
     """
     name = "halfturn_axis"
     if func is None or func is Ellipsis or not callable(func):
         return check_function(func, None, [], name)
     for label, R in _halfturn_inputs():
-        got, fail = _call(func, name, label, R)
+        (got, fail), called = _logarithms_called(_call, func, name, label, R)
         if fail is not None:
             if "raised" in fail.message:
                 return Feedback(False, fail.message + "\nHint: the axis is a column of "
                                                       "R + I, divided by its length.")
             return fail
+        if called:
+            return Feedback(False, f"Not yet: {name}. It calls {called[0]}, a logarithm: "
+                                   "the exercise asks you to build the axis yourself, from "
+                                   "R alone.\nHint: R + I = 2 n n^T, so every column of "
+                                   "R + I is a multiple of n.")
         a = _as_float(got)
         if a is None:
             return Feedback(False, f"Not yet: {name}. For {label} it returned a "

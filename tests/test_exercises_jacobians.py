@@ -112,6 +112,10 @@ def test_ominus_jacobians_mistakes(answer, pattern):
     (so3lib.C, "calls so3lib's C"),
     (lambda t: float(so3lib.jacobians.C(t)), "calls so3lib's C"),
     (lambda t: float(getattr(so3lib, "C" + "")(t)), "calls so3lib's C"),  # hidden from a reading
+    (lambda t: (float(so3lib.jacobians._horner(so3lib.jacobians._C_SERIES, t * t))
+                if abs(t) < 2 else (t - math.sin(t)) / t**3), "calls so3lib's C"),  # its series
+    (lambda t: (float(so3lib.jacobians._C_scaled(np.array(abs(t)))) / t**2
+                if t else 1 / 6), "calls so3lib's C"),                  # theta^2 C, unscaled
     (lambda t: (t - math.sin(t)) / t**3, "0/0.*Taylor"),
     (lambda t: 1 / 6 if abs(t) < 1e-100 else (t - math.sin(t)) / t**3,
      "Only small t.*cancels"),

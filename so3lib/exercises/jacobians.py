@@ -243,10 +243,15 @@ def _forbidden_62():
     return [(so3lib, "C"), (_jacobians, "C")]
 
 
+_PRIVATE_62 = ("_C_scaled", "_C_SERIES")     # the library's own C, as theta^2 C and its series
+
+
 def _names_C(func):
     """True if the code of ``func`` (or of a function defined inside it) names so3lib's
-    ``C``: a global, enclosing or imported name bound to it, or an attribute chain such
-    as ``so3lib.jacobians.C`` that leads to it."""
+    ``C`` or the private pieces it is built from (``_C_scaled``, ``_C_SERIES``): a global,
+    enclosing or imported name bound to one, or an attribute chain such as
+    ``so3lib.jacobians.C`` that leads to one."""
+    banned = [_C_lib] + [getattr(_jacobians, name) for name in _PRIVATE_62]
     code = getattr(func, "__code__", None)
     if not isinstance(code, types.CodeType):
         return False
@@ -264,7 +269,7 @@ def _names_C(func):
         for ins in dis.get_instructions(c):
             if ins.opname == "IMPORT_NAME":
                 module = str(ins.argval)
-            elif ins.opname == "IMPORT_FROM" and ins.argval == "C" and \
+            elif ins.opname == "IMPORT_FROM" and ins.argval in ("C", *_PRIVATE_62) and \
                     module.split(".")[0] == "so3lib":
                 return True
             if ins.opname in ("LOAD_GLOBAL", "LOAD_NAME", "LOAD_DEREF"):
@@ -273,7 +278,7 @@ def _names_C(func):
                 obj = getattr(obj, str(ins.argval), None)
             else:
                 obj = None
-            if obj is not None and obj is _C_lib:
+            if obj is not None and any(obj is b for b in banned):
                 return True
     return False
 
@@ -326,8 +331,8 @@ def check_C_stable(func):
     if fb is not None:
         return fb
     if func is _C_lib or _names_C(func):
-        return _fail(name, "It calls so3lib's C, which the exercise asks you not to use: "
-                           "write the computation yourself.")
+        return _fail(name, "It calls so3lib's C (or reads the series inside it), which the "
+                           "exercise asks you not to use: write the computation yourself.")
     bad, calls = [], []
     for t in _TS_62:
         with _spy_C(calls):

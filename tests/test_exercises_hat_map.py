@@ -97,6 +97,15 @@ def test_fifth_power_never_prints_the_answer(answer):
     assert "196" not in repr(check_fifth_power(answer)).replace(str(answer), "")
 
 
+@pytest.mark.parametrize("answer", [14 ** 3, 14 ** 4, 14 ** 5, 14 ** 1.5, 14 ** 2.5, 100, -14])
+def test_fifth_power_hints_do_not_state_the_factor(answer):
+    # a hint may say how to count the uses of the Lemma, not what the count gives: the
+    # factor written out (|a|^4, (|a|^2)^2, k = 2 in (1.7)) is the answer up to 14 * 14
+    text = repr(check_fifth_power(answer))
+    for giveaway in ("|a|^4", "(|a|^2)^2", "k = 2", "|a|^(2k)"):
+        assert giveaway not in text, text
+
+
 @pytest.mark.parametrize("answer", [0, 1, 2, 100, 195.5, -1, 1000])
 def test_fifth_power_message_measures_nothing_against_the_answer(answer):
     # c hat(a) - hat(a)^5 is 3 (196 - c) in its largest entry: printing it (588 at c = 0)

@@ -200,8 +200,9 @@ def check_fifth_power(answer):
         hint = ("That is (up to sign) the factor of hat(a)^3 = -|a|^2 hat(a). Apply "
                 "the Lemma once more: hat(a)^5 = hat(a)^3 hat(a)^2.")
     elif any(np.isclose(abs(x), v) for v in (n2 ** 1.5, n2 ** 2.5, n2 ** 3, n2 ** 4, n2 ** 5)):
-        hint = ("Check the power of |a|: hat(a)^(2k+1) = (-1)^k |a|^(2k) hat(a), and "
-                "5 = 2k + 1 gives k = 2, so the factor is |a|^4 = (|a|^2)^2.")
+        hint = ("Check the power of |a|: each use of the Lemma lowers the power of hat(a) "
+                "by 2 and brings one factor -|a|^2. How many uses take hat(a)^5 down to "
+                "hat(a)?")
     why = f"With c = {x:.12g}, c hat(a) is not hat(a)^5 (multiplied out)."
     if np.allclose(x * H, H5, rtol=1e-3, atol=0):
         why += (" It is close, but the Lemma gives c exactly, as a whole number: no rounding "

@@ -54,6 +54,16 @@ def test_the_checks_own_examples_are_rotations_to_rounding():
         assert so3lib.is_rotation(R)
 
 
+def test_nan_rotation_says_why_the_identity_gives_zero():
+    # c = 1: the guard of (4.7); c just below 1 (R R^T of a computed rotation, exactly
+    # symmetric): n = 0. The hint must not blame the guard for the second.
+    _says(check_nan_rotation(np.eye(3)), r"guard of \(4\.7\)")
+    below = next(P for P in (Q @ Q.T for Q in so3lib.random_rotation(1, 200))
+                 if (np.trace(P) - 1) / 2 < 1)
+    _says(check_nan_rotation(below), r"skew part R - R\^T is exactly 0")
+    assert "guard" not in repr(check_nan_rotation(below))
+
+
 @pytest.mark.parametrize("R, says", [
     (None, "No answer yet"),
     (..., "No answer yet"),
@@ -85,6 +95,7 @@ def _halfturn_axis(R):
 def test_halfturn_axis_right_answer_passes_with_either_sign():
     fb = check_halfturn_axis(_halfturn_axis)
     assert fb and repr(fb).startswith("Correct: halfturn_axis")
+    assert "of 7 half-turns" in repr(fb), repr(fb)
     assert check_halfturn_axis(lambda R: -_halfturn_axis(R))
 
 
@@ -92,6 +103,13 @@ def _first_column(R):
     col = (R + np.eye(3))[:, 0]
     with np.errstate(invalid="ignore", divide="ignore"):
         return col / np.linalg.norm(col)
+
+
+def _signs_from_row_one(R):
+    """|n_j| from the diagonal (R_jj = 2 n_j^2 - 1), signs from row 1 (R_1j = 2 n_1 n_j):
+    wrong where n_1 = 0 and the other two components have opposite signs."""
+    n = np.sqrt(np.clip((np.diag(R) + 1) / 2, 0.0, None))
+    return np.where(np.arange(3) > 0, np.where(R[0] < -1e-12, -n, n), n)
 
 
 def _skew_axis(R):
@@ -111,6 +129,7 @@ def _skew_axis(R):
     (lambda R: "n", "not an array of numbers"),
     (lambda R: np.full(3, np.nan), "NaN or inf"),
     (_first_column, "largest diagonal entry"),
+    (_signs_from_row_one, "which is not its axis"),
     (_skew_axis, "skew part R - R\\^T is 0"),
     (lambda R: np.pi * _halfturn_axis(R), "logarithm pi n"),
     (lambda R: 2 * _halfturn_axis(R), "right direction, but length 2, not 1"),
@@ -142,7 +161,8 @@ def test_halfturn_axis_messages_do_not_show_the_axis():
 def _all_logs(R, bound):
     phi = so3lib.log(R)
     theta = np.linalg.norm(phi)
-    ks = range(-10, 11)
+    kmax = int(bound / (2 * np.pi)) + 1
+    ks = range(-kmax, kmax + 1)
     return [(theta + 2 * np.pi * k) * phi / theta for k in ks if abs(theta + 2 * np.pi * k) < bound]
 
 
@@ -177,6 +197,7 @@ def test_all_logs_right_answer_passes_in_any_order():
     (lambda R, b: [["a", "b", "c"]], "not an array of numbers"),
     (lambda R, b: _all_logs_ks(R, b, int(b / (2 * np.pi))), "How far must k run"),
     (lambda R, b: _all_logs_ks(R, b, 3), "How far must k run"),
+    (lambda R, b: _all_logs_ks(R, b, 10), "How far must k run"),     # a fixed range
 ])
 def test_all_logs_wrong_answers_get_a_message(student, says):
     _says(check_all_logs(student), says)

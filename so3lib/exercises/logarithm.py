@@ -170,9 +170,11 @@ def check_nan_rotation(R_nan):
     near = -1.0 if c < 0 else 1.0                   # the end of [-1, 1] that c is near
     rounding = 4 * np.finfo(float).eps              # a few roundings of c
     if not omega.any() and theta <= 1e-12:
-        hint = ("Your R is the identity to rounding: the case (4.7) guards, where sigma = 0 "
-                "gives omega = 0, correctly. Look for a rotation where c = (tr R - 1)/2 can "
-                "leave [-1, 1] by rounding.")
+        why = ("c = 1 exactly, so sigma = 0 and the guard of (4.7) gives omega = 0" if c == 1
+               else "c is just below 1 and the skew part R - R^T is exactly 0, so n = 0 "
+                    "and omega = 0")
+        hint = (f"Your R is the identity to rounding: {why}, correctly. Look for a rotation "
+                "where c = (tr R - 1)/2 can leave [-1, 1] by rounding.")
     elif not omega.any() and c < 0:
         hint = ("Your R is a half-turn whose skew part is exactly 0, so n = 0 and the "
                 "recipe returns a silent 0: wrong (exp(0) = I), but not a NaN. Here c = "
@@ -199,14 +201,16 @@ def check_nan_rotation(R_nan):
 
 # --------------------------------------------------------------------------- 4.2
 
-# The last two catch a range of k that is too short: a bound of 40 rad needs k from -6
+# The last three catch a range of k that is too short: a bound of 40 rad needs k from -6
 # to 5, and a turn by 3 rad below a bound of 10 needs k = -2, which a range of
-# |k| <= int(bound / (2 pi)) (here 1) misses.
+# |k| <= int(bound / (2 pi)) (here 1) misses; a bound of 160 rad needs |k| up to 25,
+# which a range fixed in advance (say k from -10 to 10) misses.
 _ALL_LOG_INPUTS = [
     (exp([0.0, 0.0, 1.0]), 7.0),
     (exp([0.3, -0.4, 1.2]), 10.0),
     (exp(2.5 * np.array([2.0, -1.0, 2.0]) / 3.0), 40.0),
     (exp([0.0, 3.0, 0.0]), 10.0),
+    (exp([-1.1, 0.4, 0.8]), 160.0),
 ]
 
 
@@ -226,8 +230,9 @@ def check_all_logs(func):
     rotation's axis and has ``exp(row) == R``; no two rows are equal; and there are as
     many rows as integers ``k`` with :math:`|\theta + 2\pi k| <` ``bound``. Recognises the
     usual slip: only ``k >= 0``, forgetting the logarithms that point along ``-n``. A
-    range of ``k`` that stops one short (``|k| <= bound / 2 pi``) or is fixed in advance
-    misses a row on the last two rotations.
+    range of ``k`` that stops one short (``|k| <= bound / 2 pi``) misses a row on the
+    third or fourth rotation, and one fixed in advance (``|k| <= 10``) on the fifth,
+    whose bound is 160.
     """
     name = "all_logs"
     if func is None or func is Ellipsis or not callable(func):
@@ -298,21 +303,26 @@ def _halfturn(n):
 
 
 # The third axis is e_z: column 0 (and 1) of R + I is then zero, which catches a
-# solution that always normalises the first column.
+# solution that always normalises the first column. The fourth, (0, 0.6, -0.8), has
+# n_1 = 0 and two components of opposite signs: it catches magnitudes read off the
+# diagonal (R_jj = 2 n_j^2 - 1) with signs taken from row 1 (R_1j = 2 n_1 n_j), which
+# is 0 there.
 _HALF_AXES = [
     np.array([1.0, 0.0, 0.0]),
     np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0),
     np.array([0.0, 0.0, 1.0]),
+    np.array([0.0, 0.6, -0.8]),
     np.array([1.0, 2.0, 3.0]) / np.sqrt(14.0),
     np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]),
 ]
 
 
 def _halfturn_inputs():
-    """(label, R) pairs; the label shows the input matrix, never its axis."""
+    """(label, R) pairs; the label shows the input matrix, never its axis. The last is
+    ``exp(pi n)`` about the last axis, with rounding noise."""
     cases = [_halfturn(n) for n in _HALF_AXES] + [exp(np.pi * _HALF_AXES[-1])]
     return [(f"R = {(np.round(R, 4) + 0.0).tolist()}"
-             + (" (exp(pi n), with rounding noise)" if i == 5 else ""), R)
+             + (" (exp(pi n), with rounding noise)" if i == len(_HALF_AXES) else ""), R)
             for i, R in enumerate(cases)]
 
 
@@ -374,7 +384,7 @@ def check_halfturn_axis(func):
                                "which is not its axis: even normalised, 2 n n^T - I differs "
                                f"from R by {np.abs(_halfturn(u) - R).max():.2g}.\nHint: {hint}")
     return Feedback(True, f"Correct: {name}. It finds the axis (up to its sign, which is "
-                          "free at a half-turn) of 6 half-turns.")
+                          f"free at a half-turn) of {len(_HALF_AXES) + 1} half-turns.")
 
 
 # --------------------------------------------------------------------------- 4.4

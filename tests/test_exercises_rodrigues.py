@@ -240,6 +240,24 @@ def test_B_refuses_a_Taylor_branch_kept_just_too_long(student, x_shown):
     assert "expected" not in text and "0.49" not in text, text
 
 
+@pytest.mark.parametrize("student", [_taylor_below(4.5e-3), _taylor_below(0.055, terms=3)])
+def test_B_refuses_a_Taylor_branch_kept_a_little_too_long(student):
+    """Off by 1.1e-12 (2 terms up to 4.5e-3) and 1.4e-12 (3 terms up to 0.055) at their
+    worst: the sweep every 1% finds more than the 1e-12 asked, and says so in words that
+    do not read "1.0e-12, asked 1e-12"."""
+    _says(check_B(student), "B_stable",
+          r"relative error just above the 1e-12(.|\n)*Taylor polynomial")
+
+
+def test_B_typed_as_displayed_hears_about_the_squares_that_underflow():
+    """2*sin(x/2)**2/x**2, with B(0) = 1/2 apart, divides 0 by 0 at 1e-300: the hint is
+    about the squares, not the formula the learner already typed."""
+    def as_displayed(x):
+        return 0.5 if x == 0 else 2 * math.sin(x / 2) ** 2 / x ** 2
+    _says(check_B(as_displayed), "B_stable",
+          r"B_stable\(1e-300\) raised ZeroDivisionError(.|\n)*subnormal(.|\n)*Divide before")
+
+
 def test_B_names_no_mistake_it_cannot_tell_apart():
     """At x = 1 a denominator x equals x^2, and a 0 returned at 1e-300 matches
     (1 - cos x)/x there: neither may be called "the denominator is x^2, not x"."""

@@ -162,6 +162,54 @@ def test_C_stable_threshold_too_low_is_refused():
     assert "Only small t" in fb.message and "0.1666" not in fb.message
 
 
+def _ominus_with_D(D_of):
+    """(6.9) with a learner's own coefficient D(t)."""
+    def answer(R1, R0):
+        phi = ominus(R1, R0)
+        t, K = np.linalg.norm(phi), hat(phi)
+        d = D_of(t)
+        return np.eye(3) + K / 2 + d * K @ K, -(np.eye(3) - K / 2 + d * K @ K)
+    return answer
+
+
+def _D_written(t):
+    return 1 / t**2 - (1 + np.cos(t)) / (2 * t * np.sin(t))
+
+
+@pytest.mark.parametrize("D_of", [
+    lambda t: 1 / 12 if t < 1 else _D_written(t),                       # 1e-3 off at 0.9
+    lambda t: 1 / 12 + t * t / 720 if t < 1.2 else _D_written(t),
+    lambda t: 1 / 12 + t * t / 720 + t**4 / 30240 if t < 0.5 else _D_written(t),
+])
+def test_ominus_jacobians_D_kept_too_far_is_refused(D_of):
+    """A Taylor series of D kept too far is wrong only between 2.4e-3 and 1.3 rad, where
+    the first four pairs have no angle: the pairs in between catch it, by name."""
+    says_for(check_ominus_jacobians(_ominus_with_D(D_of)), "ominus_jacobians",
+             r"along hat\(phi\)\^2.*Taylor series kept too far")
+
+
+def test_ominus_jacobians_stable_D_of_ones_own_passes():
+    def D_own(t):
+        if t < 0.5:
+            return 1 / 12 + t * t / 720 + t**4 / 30240 + t**6 / 1209600 + t**8 / 47900160
+        return (1 - (t / 2) / np.tan(t / 2)) / t**2
+    assert check_ominus_jacobians(_ominus_with_D(D_own))
+
+
+def test_body_jacobian_J_r_with_series_kept_too_far_is_refused():
+    """A J_r of one's own with B and C from two and one Taylor terms below 1 rad: wrong by
+    1e-8 at 0.03 rad, where the first three cases (0, 1.3 and 3 rad) would not look."""
+    def J_r(p):
+        t, K = np.linalg.norm(p), hat(p)
+        if t < 1.0:
+            b, c = 0.5 - t * t / 24, 1 / 6
+        else:
+            b, c = (1 - np.cos(t)) / t**2, (t - np.sin(t)) / t**3
+        return np.eye(3) - b * K + c * K @ K
+    says_for(check_body_jacobian(lambda p, b: hat(exp(p).T @ b) @ J_r(p)), "body_jacobian",
+             r"(?s)phi = \(0\.01.*Taylor series too far")
+
+
 def test_messages_never_show_the_expected_value():
     """A wrong answer's message names its own numbers, never the right Jacobians."""
     fb = check_ominus_jacobians(lambda R1, R0: (np.eye(3), -np.eye(3)))

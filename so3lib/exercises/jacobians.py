@@ -94,14 +94,22 @@ def _close(a, b, tol):
 
 # --- 6.1 the derivatives of ominus ---------------------------------------------------
 
+#: turns |R1 (-) R0| between the named pairs, about 1.5 apart: a coefficient D that keeps
+#: a Taylor series too far (or cancels) is wrong somewhere in the middle range
+_TURNS_61 = (0.005, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.0, 1.8)
+_AXES_61 = ((1.0, 2.0, -2.0), (-2.0, 1.0, 2.0), (2.0, 2.0, 1.0))
+
+
 def _pairs_61():
-    """(shown, R1, R0) with R1 = R0 exp(phi): turns |phi| from 1e-3 to 3 rad."""
+    """(shown, R1, R0, phi) with R1 = R0 exp(phi): turns |phi| from 2.4e-3 to 3 rad."""
     R0 = exp(np.array([0.4, -0.9, 1.3]))
     phis = [("|R1 (-) R0| = 0.0024 rad", np.array([1e-3, 2e-3, -1e-3])),
             ("|R1 (-) R0| = 1.3 rad", np.array([0.3, -0.4, 1.2])),
             ("|R1 (-) R0| = 2.4 rad", np.array([-1.2, 2.0, 0.6])),
             ("|R1 (-) R0| = 3 rad, near a half-turn", np.array([2.0, -1.0, 2.0]))]
-    return [(shown, R0 @ exp(phi), R0) for shown, phi in phis]
+    phis += [(f"|R1 (-) R0| = {t:g} rad", t / 3 * np.array(_AXES_61[i % 3]))
+             for i, t in enumerate(_TURNS_61)]
+    return [(shown, R0 @ exp(phi), R0, phi) for shown, phi in phis]
 
 
 def _log_mp(M):
@@ -153,7 +161,15 @@ def _pair(got):
     return arr, None
 
 
-def _diagnose_61(g1, g0, j1, j0):
+def _along_hat2(err, phi):
+    """True if ``err`` is (to 1 %) a multiple of hat(phi)^2: only the coefficient D is off."""
+    K2 = hat(phi) @ hat(phi)
+    size = float(np.abs(err).max())
+    c = float(np.sum(err * K2) / np.sum(K2 * K2))
+    return size > 0 and float(np.abs(err - c * K2).max()) <= 0.01 * size
+
+
+def _diagnose_61(g1, g0, j1, j0, phi):
     tol = 1e-8
     if _close(g1, j0, tol) and _close(g0, j1, tol):
         return "The two are swapped: return (J1, J0), the derivative in R1 first."
@@ -176,6 +192,11 @@ def _diagnose_61(g1, g0, j1, j0):
         elif _close(g0, np.linalg.inv(j0), tol) or _close(g0, -np.linalg.inv(j0), tol):
             notes.append("J0 uses a Jacobian of exp; R1 (-) R0 is a logarithm, so its "
                          "derivative is an inverse.")
+    if not notes and all(_close(g, j, 1e-12) or _along_hat2(g - j, phi)
+                         for g, j in ((g1, j1), (g0, j0))):
+        notes.append("The error lies along hat(phi)^2: the coefficient D of (6.9) is off "
+                     "at this angle. Is a Taylor series kept too far, or does a form "
+                     "cancel? so3lib's inverse Jacobians compute it stably.")
     if not notes and _close(g1, j1, 1e-6) and _close(g0, j0, 1e-6):
         notes.append("Close (within 1e-6) but not within 1e-12: finite differences "
                      "cannot reach the last digits. Use the closed forms of this section.")
@@ -188,13 +209,14 @@ def check_ominus_jacobians(func):
     :math:`\mathrm{Log}(R_0^T R_1 e^{\hat\delta}) \approx \varphi + J_1\delta` and
     :math:`\mathrm{Log}((R_0e^{\hat\delta})^T R_1) \approx \varphi + J_0\delta`,
     :math:`\varphi = R_1 \ominus R_0`, checked against 50-digit centred differences of
-    those logarithms (within 1e-12) at four pairs, turns from 2.4e-3 to 3 rad."""
+    those logarithms (within 1e-12) at 17 pairs, turns from 2.4e-3 to 3 rad about 1.5
+    apart (so a coefficient wrong in the middle range is caught)."""
     name = "ominus_jacobians"
     fb = _start(func, name)
     if fb is not None:
         return fb
     pairs = _pairs_61()
-    for shown, R1, R0 in pairs:
+    for shown, R1, R0, phi in pairs:
         try:
             got = func(R1.copy(), R0.copy())
         except NotImplementedError:
@@ -217,7 +239,7 @@ def check_ominus_jacobians(func):
             verb = "differ" if " and " in wrong else "differs"
             why = (f"On the pair with {shown}, {wrong} {verb} from the 50-digit "
                    f"derivative of R1 (-) R0 by up to {diff:.2g} (allowed: 1e-12).")
-            extra = _diagnose_61(arr[0], arr[1], j1, j0)
+            extra = _diagnose_61(arr[0], arr[1], j1, j0, phi)
             return Feedback(False, f"Not yet: {name}. {why}" + (f" {extra}" if extra else "")
                             + "\nHint: write R0^T (R1 exp(delta)) and (R0 exp(delta))^T R1 "
                               "as exp(phi) times a small rotation, and use the derivatives "
@@ -387,6 +409,10 @@ def _cases_63():
     b = np.array([1.0, -2.0, 0.5])
     return [
         ("phi = 0 and b = (1, -2, 0.5)", (np.zeros(3), b)),
+        ("phi = (0.01, 0.02, -0.02) and b = (1, -2, 0.5)", (np.array([0.01, 0.02, -0.02]), b)),
+        ("phi = (0.1, -0.2, 0.2) and b = (1, -2, 0.5)", (np.array([0.1, -0.2, 0.2]), b)),
+        ("phi = (0.2, 0.4, -0.4) and b = (0, 1, 1)", (np.array([0.2, 0.4, -0.4]),
+                                                     np.array([0.0, 1.0, 1.0]))),
         ("phi = (0.3, -0.4, 1.2) and b = (1, -2, 0.5)", (np.array([0.3, -0.4, 1.2]), b)),
         ("phi = (2, -1, 2) and b = (0, 1, 1)", (np.array([2.0, -1.0, 2.0]),
                                                np.array([0.0, 1.0, 1.0]))),
@@ -411,7 +437,9 @@ def _diagnose_63(got, phi, b):
     jr = _fd_jacobian(phi, "right")
     if _close(got, _fd_body(phi, b), 1e-6):
         return ("Close (within 1e-6) but not within 1e-12: finite differences cannot reach "
-                "the last digits. Expand exp(phi + delta)^T b to first order instead.")
+                "the last digits, nor can coefficients B, C kept as a Taylor series too far "
+                "(or written in a form that cancels). Expand exp(phi + delta)^T b to first "
+                "order, with a stable J_r.")
     if _close(got, v, 1e-7) and not _close(v, v @ jr, 1e-7):
         return ("It is hat(exp(phi)^T b) alone: J_r(phi) is missing. exp(phi + delta) is "
                 "not exp(phi) exp(delta); it is exp(phi) exp(J_r(phi) delta).")

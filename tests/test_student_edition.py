@@ -70,8 +70,9 @@ def test_the_edition_has_every_notebook_and_what_it_needs(edition):
     out, notebooks = edition
     assert sorted(notebooks) == [p.name for p in NOTEBOOKS]
     for name in ["so3lib/exercises/__init__.py", "environment.txt", "pyproject.toml",
-                 "README.md", "binder/requirements.txt"]:
+                 "README.md", "binder/requirements.txt", "binder/postBuild"]:
         assert (out / name).is_file(), name
+    assert os.access(out / "binder/postBuild", os.X_OK), "repo2docker runs postBuild"
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)

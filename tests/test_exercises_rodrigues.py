@@ -148,10 +148,10 @@ def test_B_right_answers_pass():
     def half_angle(x):
         return 0.5 if x == 0 else 2 * (math.sin(x / 2) / x) ** 2
 
-    def taylor_then_closed(x):
-        return 0.5 - x * x / 24 if abs(x) < 1e-4 else (1 - math.cos(x)) / x ** 2 \
-            if abs(x) > 0.5 else 2 * (math.sin(x / 2) / x) ** 2
-    for func in (half_angle, taylor_then_closed):
+    def three_terms_then_half_angle(x):
+        return 0.5 - x * x / 24 + x ** 4 / 720 if abs(x) < 1e-2 \
+            else 2 * (math.sin(x / 2) / x) ** 2
+    for func in (half_angle, three_terms_then_half_angle):
         fb = check_B(func)
         assert fb and repr(fb).startswith("Correct: B_stable"), repr(fb)
 
@@ -247,6 +247,23 @@ def test_B_refuses_a_Taylor_branch_kept_a_little_too_long(student):
     do not read "1.0e-12, asked 1e-12"."""
     _says(check_B(student), "B_stable",
           r"relative error just above the 1e-12(.|\n)*Taylor polynomial")
+
+
+def _naive_far_from_0(x):
+    """The half-angle form near 0 and the naive one beyond 0.5: it cancels again next to
+    every multiple of 2 pi (at 2 pi itself cos x rounds to 1 and it returns 0)."""
+    if abs(x) > 0.5:
+        return (1 - math.cos(x)) / x ** 2
+    return 0.5 if x == 0 else 2 * (math.sin(x / 2) / x) ** 2
+
+
+def test_B_refuses_the_naive_form_next_to_multiples_of_2pi():
+    _says(check_B(_naive_far_from_0), "B_stable",
+          r"B_stable\(6\.28319\)(.|\n)*naive(.|\n)*multiple of 2 pi")
+
+    def spares_2pi(x):                      # right at the float 2 pi only: refused nearby
+        return 2 * (math.sin(x / 2) / x) ** 2 if x == 2 * math.pi else _naive_far_from_0(x)
+    _says(check_B(spares_2pi), "B_stable", r"B_stable\(-6\.28719\) has a relative error")
 
 
 def test_B_typed_as_displayed_hears_about_the_squares_that_underflow():

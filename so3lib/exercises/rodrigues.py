@@ -248,6 +248,10 @@ def check_naive_B_digits(answer):
 # middle range (1e-3 to 0.45) catches a Taylor polynomial used too far out.
 _B_INPUTS = [1.0, 2.5, -0.5, 1e-8, 1e-5, 1e-3, 0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.45,
              -0.7, 1e-300, 30.0]
+# next to the nonzero multiples of 2 pi, where cos x is again next to 1 and 1 - cos x
+# cancels: the naive form kept for large x is off by 1 at 2 pi (the float), 2.3e-12 at
+# 2 pi + 0.004, 1.5e-12 at 4 pi - 0.003 and 1.9e-11 at 6 pi + 0.002
+_B_INPUTS += [2 * math.pi, -2 * math.pi - 0.004, 4 * math.pi - 0.003, 6 * math.pi + 0.002]
 # then a dense sweep of both signs, 1e-4 to 1 (steps of 17%), and the points just below
 # the round switch-overs: a Taylor branch kept up to 0.01 or 0.1 is off by 3e-11 or 5e-11
 # just below it, which the coarse list above misses
@@ -259,8 +263,8 @@ _B_INPUTS += [float(s * x) for x in np.geomspace(1e-4, 1.0, 60) for s in (1, -1)
 _B_INPUTS += [float(s * x) for x in np.geomspace(1e-3, 0.5, 626) for s in (1, -1)]
 _B_RTOL = 1e-12
 
-_B_HINT = ("Avoid the subtraction 1 - cos(x) for small x: use the half-angle form "
-           "2 sin(x/2)^2 / x^2, and return the limit 1/2 at x = 0 (a Taylor polynomial "
+_B_HINT = ("Avoid the subtraction 1 - cos(x), which cancels wherever cos(x) is near 1: use "
+           "the half-angle form 2 sin(x/2)^2 / x^2, and return the limit 1/2 at x = 0 (a Taylor polynomial "
            "is fine too, but only where its first left-out term is below 1e-12 of B).")
 
 
@@ -284,6 +288,9 @@ def _diagnose_B(got, x, ref):
     def apart(alt):                 # the mistake gives a value the checker refuses
         return not _close(alt, ref, atol=0, rtol=_B_RTOL)
 
+    if x != 0 and abs(x) > 1 and apart(naive) and _close(got, naive, atol=0, rtol=1e-15):
+        return ("This is the naive (1 - cos x)/x^2, here far from 0: near every multiple "
+                "of 2 pi, cos(x) is next to 1 again. " + _B_HINT)
     if x != 0 and apart(naive) and _close(got, naive, atol=0, rtol=1e-15):
         return ("This is the naive (1 - cos x)/x^2. Near x = 0, cos(x) rounds to a number "
                 "next to 1 and the subtraction cancels almost every digit (at x = 1e-8 it "
@@ -313,7 +320,8 @@ def check_B(func):
 
     Compares with the library's ``so3lib.B`` at ``x`` from 1 down to 1e-8, then ``x = 0``
     (where ``B = 1/2``), the middle range 0.01 to 0.45 (where a Taylor polynomial kept
-    too long fails), ``1e-300`` and ``x = 30``, then just below the round switch-overs
+    too long fails), ``1e-300`` and ``x = 30``, next to 2 pi, 4 pi and 6 pi (where the
+    naive form cancels again), then just below the round switch-overs
     0.005, 0.01, 0.05, 0.1, at 60 values of each sign from 1e-4 to 1 and every 1% from
     1e-3 to 0.5. A wrong value gets its relative error and the usual mistake it matches
     (below ``|x| = 1e-150``: squares that underflow). A function that is, or calls, ``so3lib.B`` (which the
@@ -347,4 +355,5 @@ def check_B(func):
             return _fail(name, f"{shown} has {size}.", _diagnose_B(got, x, ref) or _B_HINT)
     return Feedback(True, f"Correct: {name}. It is accurate to 1e-12 (relative) at "
                           f"{len(_B_INPUTS)} values of x, from 0 and 1e-300 through the "
-                          "middle range, every 1% from 0.001 to 0.5, to 30.")
+                          "middle range, every 1% from 0.001 to 0.5, to 30, and next to "
+                          "2 pi, 4 pi and 6 pi.")

@@ -80,7 +80,7 @@ def test_fifth_power_right_answer_passes():
     (-14, "factor of hat\\(a\\)\\^3"),
     (14 ** 4, "power of \\|a\\|"),
     (14 ** 3, "power of \\|a\\|"),
-    (100, "is not hat\\(a\\)\\^5(.|\n)*Start from the Lemma"),
+    (100, "is not hat\\(a\\)\\^5(.|\n)*Split hat\\(a\\)\\^5(.|\n)*How many uses"),
     (195.99, "is not hat\\(a\\)\\^5(.|\n)*close, but(.|\n)*whole number"),
     ("196x", "not a number"),
     ("196", "text \\(str\\), not a number(.|\n)*without quotes"),
@@ -100,9 +100,10 @@ def test_fifth_power_never_prints_the_answer(answer):
 @pytest.mark.parametrize("answer", [14 ** 3, 14 ** 4, 14 ** 5, 14 ** 1.5, 14 ** 2.5, 100, -14])
 def test_fifth_power_hints_do_not_state_the_factor(answer):
     # a hint may say how to count the uses of the Lemma, not what the count gives: the
-    # factor written out (|a|^4, (|a|^2)^2, k = 2 in (1.7)) is the answer up to 14 * 14
+    # factor written out (|a|^4, (|a|^2)^2, k = 2 in (1.7)) is the answer up to 14 * 14,
+    # and so is the first use done for the learner (hat(a)^5 = -|a|^2 hat(a)^3)
     text = repr(check_fifth_power(answer))
-    for giveaway in ("|a|^4", "(|a|^2)^2", "k = 2", "|a|^(2k)"):
+    for giveaway in ("|a|^4", "(|a|^2)^2", "k = 2", "|a|^(2k)", "-|a|^2 hat(a)^3"):
         assert giveaway not in text, text
 
 
@@ -344,3 +345,22 @@ def test_power_coefficients_messages_show_no_expected_coefficients(student):
     # (a and p) and the hint's small integers may appear.
     numbers = re.findall(r"\d+\.\d*[1-9]\d*|\de[+-]?\d+", text.split("\nHint:")[0])
     assert all(x in ("0.5", "0.25", "0.6", "0.8") for x in numbers), text
+
+
+def _off_at(p_wrong):
+    # right everywhere except at one p, where every coefficient is off by one
+    def student(a, p):
+        c = np.asarray(_student(a, p), dtype=float)
+        return tuple(c + 1.0) if p == p_wrong else tuple(c)
+    return student
+
+
+@pytest.mark.parametrize("p_wrong", [1, 2, 3, 4, 5, 6, 11, 12, 400])
+def test_power_coefficients_hints_do_not_work_the_case_out(p_wrong):
+    # the vector a and p are shown with the hint; k's value and (1.7) or (1.8) written out
+    # for that p would together be the expected coefficients of that case
+    text = repr(check_power_coefficients(_off_at(p_wrong)))
+    assert f"p = {p_wrong} is {'odd' if p_wrong % 2 else 'even'}" in text, text
+    k = (p_wrong - 1) // 2
+    for giveaway in (f"k = {k}", "(-1)^k", "c0 = c2 = 0", "c0 = c1 = 0"):
+        assert giveaway not in text, text

@@ -168,8 +168,10 @@ def check_fifth_power(answer):
     H = hat(A_FIFTH)
     H5 = np.linalg.matrix_power(H, 5)
     n2 = float(A_FIFTH @ A_FIFTH)                      # |a|^2 = 14
-    hint = ("Start from the Lemma, hat(a)^3 = -|a|^2 hat(a), and write "
-            "hat(a)^5 = hat(a)^3 hat(a)^2 = -|a|^2 hat(a)^3. Here |a|^2 = 1 + 4 + 9 = 14.")
+    hint = ("Split hat(a)^5 = hat(a)^3 hat(a)^2 and use the Lemma, hat(a)^3 = -|a|^2 hat(a): "
+            "each use lowers the power of hat(a) by 2 and brings a factor -|a|^2. How many "
+            "uses take hat(a)^5 down to hat(a), and what do their signs give together? "
+            "Here |a|^2 = 1 + 4 + 9 = 14.")
     if answer is None or answer is Ellipsis:
         return _fail(name, _NOT_ANSWERED)
     if isinstance(answer, (str, bytes)):
@@ -213,16 +215,19 @@ def check_fifth_power(answer):
 # ---------------------------------------------------------------- exercise 1.3
 
 def _power_hint(p):
+    """The hint for a wrong answer at ``p``: which formula applies, never its value there
+    (with the vector shown, ``k`` and the formula written out would be the answer)."""
     if p == 0:
         return ("hat(a)^0 is the identity I, by the definition of a matrix power; it is "
                 "not covered by the formula for even powers, which starts at p = 2 "
                 "(p = 0 would need k = -1).")
-    k = (p - 1) // 2
     if p % 2:
-        return (f"p = {p} is odd: p = 2k + 1 with k = {k}, so hat(a)^p = (-1)^k |a|^(2k) hat(a), "
-                "a multiple of hat(a) only (c0 = c2 = 0). Note |a|^(2k) = (a @ a)**k.")
-    return (f"p = {p} is even: p = 2k + 2 with k = {k}, so hat(a)^p = (-1)^k |a|^(2k) hat(a)^2, "
-            "a multiple of hat(a)^2 only (c0 = c1 = 0). Note |a|^(2k) = (a @ a)**k.")
+        return (f"p = {p} is odd, so (1.7) applies: write p = 2k + 1 and find k. Which of "
+                "c0, c1, c2 can be nonzero for an odd power? |a|^(2k) is (a @ a)**k: no "
+                "square root is needed.")
+    return (f"p = {p} is even and at least 2, so (1.8) applies: write p = 2k + 2 and find k. "
+            "Which of c0, c1, c2 can be nonzero for an even power? |a|^(2k) is (a @ a)**k: "
+            "no square root is needed.")
 
 
 #: Names whose use means the matrix power is computed (or fitted), not the formula

@@ -95,7 +95,7 @@ def _halfturn_axis(R):
 def test_halfturn_axis_right_answer_passes_with_either_sign():
     fb = check_halfturn_axis(_halfturn_axis)
     assert fb and repr(fb).startswith("Correct: halfturn_axis")
-    assert "of 7 half-turns" in repr(fb), repr(fb)
+    assert "of 9 half-turns" in repr(fb), repr(fb)
     assert check_halfturn_axis(lambda R: -_halfturn_axis(R))
 
 
@@ -110,6 +110,29 @@ def _signs_from_row_one(R):
     wrong where n_1 = 0 and the other two components have opposite signs."""
     n = np.sqrt(np.clip((np.diag(R) + 1) / 2, 0.0, None))
     return np.where(np.arange(3) > 0, np.where(R[0] < -1e-12, -n, n), n)
+
+
+def _first_nonzero_column(R):
+    """The first column of R + I that is not exactly zero: right on exact half-turns,
+    wrong on computed ones, where a column that should be zero holds rounding noise."""
+    M = R + np.eye(3)
+    j = next(k for k in range(3) if M[:, k].any())
+    return M[:, j] / np.linalg.norm(M[:, j])
+
+
+def _first_column_above(R, small=1e-12):
+    """The first column of R + I longer than ``small``: wrong where n_1 is 1e-9."""
+    M = R + np.eye(3)
+    j = next(k for k in range(3) if np.linalg.norm(M[:, k]) > small)
+    return M[:, j] / np.linalg.norm(M[:, j])
+
+
+def _signs_from_row_j(R):
+    """|n_k| = sqrt((R_kk + 1)/2) from the diagonal, signs from row j of the largest
+    diagonal entry: the square root halves the digits of a tiny n_k."""
+    n = np.sqrt(np.clip((np.diag(R) + 1) / 2, 0.0, None))
+    j = int(np.argmax(np.diag(R)))
+    return np.where((R[j] < 0) & (np.arange(3) != j), -n, n)
 
 
 def _skew_axis(R):
@@ -131,6 +154,9 @@ def _skew_axis(R):
     (_first_column, "largest diagonal entry"),
     (_signs_from_row_one, "which is not its axis"),
     (_skew_axis, "skew part R - R\\^T is 0"),
+    (_first_nonzero_column, "with rounding noise(.|\\n)*should be 0 \\(or tiny\\)"),
+    (_first_column_above, "with rounding noise(.|\\n)*mostly noise"),
+    (_signs_from_row_j, "with rounding noise(.|\\n)*square root"),
     (lambda R: np.pi * _halfturn_axis(R), "logarithm pi n"),
     (lambda R: 2 * _halfturn_axis(R), "right direction, but length 2, not 1"),
     (lambda R: np.array([1.0, 0.0, 0.0]) if R[2, 2] > 0.9 else _halfturn_axis(R),
@@ -198,6 +224,7 @@ def test_all_logs_right_answer_passes_in_any_order():
     (lambda R, b: _all_logs_ks(R, b, int(b / (2 * np.pi))), "How far must k run"),
     (lambda R, b: _all_logs_ks(R, b, 3), "How far must k run"),
     (lambda R, b: _all_logs_ks(R, b, 10), "How far must k run"),     # a fixed range
+    (lambda R, b: _all_logs_ks(R, b, 100), "all_logs\\(R, 2000\\)"),   # a generous one
 ])
 def test_all_logs_wrong_answers_get_a_message(student, says):
     _says(check_all_logs(student), says)

@@ -34,6 +34,7 @@ from ..so3 import angle, exp, log
 from . import Feedback, check_function, never_raises
 
 __all__ = [
+    "AXIS_TOL_43",
     "ROTATION_TOL_41",
     "check_all_logs",
     "check_halfturn_axis",
@@ -201,16 +202,18 @@ def check_nan_rotation(R_nan):
 
 # --------------------------------------------------------------------------- 4.2
 
-# The last three catch a range of k that is too short: a bound of 40 rad needs k from -6
+# The last four catch a range of k that is too short: a bound of 40 rad needs k from -6
 # to 5, and a turn by 3 rad below a bound of 10 needs k = -2, which a range of
 # |k| <= int(bound / (2 pi)) (here 1) misses; a bound of 160 rad needs |k| up to 25,
-# which a range fixed in advance (say k from -10 to 10) misses.
+# which a range fixed in advance (say k from -10 to 10) misses; and a bound of 2000 rad
+# needs |k| up to 318, which a generous fixed range (k from -100 to 100) misses.
 _ALL_LOG_INPUTS = [
     (exp([0.0, 0.0, 1.0]), 7.0),
     (exp([0.3, -0.4, 1.2]), 10.0),
     (exp(2.5 * np.array([2.0, -1.0, 2.0]) / 3.0), 40.0),
     (exp([0.0, 3.0, 0.0]), 10.0),
     (exp([-1.1, 0.4, 0.8]), 160.0),
+    (exp([0.7, -0.2, 0.4]), 2000.0),
 ]
 
 
@@ -231,8 +234,8 @@ def check_all_logs(func):
     many rows as integers ``k`` with :math:`|\theta + 2\pi k| <` ``bound``. Recognises the
     usual slip: only ``k >= 0``, forgetting the logarithms that point along ``-n``. A
     range of ``k`` that stops one short (``|k| <= bound / 2 pi``) misses a row on the
-    third or fourth rotation, and one fixed in advance (``|k| <= 10``) on the fifth,
-    whose bound is 160.
+    fourth rotation, and one fixed in advance misses rows on the fifth (bound 160, so
+    ``|k| <= 10`` falls short) or the sixth (bound 2000: ``|k| <= 100`` falls short).
     """
     name = "all_logs"
     if func is None or func is Ellipsis or not callable(func):
@@ -255,24 +258,25 @@ def check_all_logs(func):
                                    "expected shape (m, 3), one rotation vector per row.")
         if not np.isfinite(a).all():
             return Feedback(False, f"Not yet: {name}. {label} returned NaN or inf.")
-        for i, phi in enumerate(a):
-            err = float(np.abs(exp(phi) - R).max())
-            if err > 1e-8:
+        errs = np.abs(exp(a) - R).max(axis=(1, 2)) if len(a) else np.zeros(0)
+        lengths = np.linalg.norm(a, axis=1)
+        for i in np.flatnonzero((errs > 1e-8) | (lengths >= bound))[:1]:
+            if errs[i] > 1e-8:
                 return Feedback(False, f"Not yet: {name}. Row {i} of {label}, "
-                                       f"{_fmt(phi)}, is not a logarithm of R: exp of it "
-                                       f"differs from R by {err:.2g}.\nHint: every "
+                                       f"{_fmt(a[i])}, is not a logarithm of R: exp of it "
+                                       f"differs from R by {errs[i]:.2g}.\nHint: every "
                                        "logarithm is (theta + 2 pi k) n with n the unit "
                                        "axis of log(R); check each row.")
-            if np.linalg.norm(phi) >= bound:
-                return Feedback(False, f"Not yet: {name}. Row {i} of {label} has length "
-                                       f"{np.linalg.norm(phi):.4g}, not below the bound.")
-        for i in range(len(a)):
-            for j in range(i):
-                if np.abs(a[i] - a[j]).max() <= 1e-8:
-                    return Feedback(False, f"Not yet: {name}. {label}: rows {j} and {i} "
-                                           "are the same logarithm; list each once.\nHint: "
-                                           "the logarithms are (theta + 2 pi k) n, one for "
-                                           "each integer k with |theta + 2 pi k| < bound.")
+            return Feedback(False, f"Not yet: {name}. Row {i} of {label} has length "
+                                   f"{lengths[i]:.4g}, not below the bound.")
+        order = np.argsort(a @ n, kind="stable")   # equal rows end up side by side
+        same = np.abs(np.diff(a[order], axis=0)).max(axis=1) <= 1e-8 if len(a) > 1 else []
+        for i in np.flatnonzero(same)[:1]:
+            j, i = sorted((int(order[i]), int(order[i + 1])))
+            return Feedback(False, f"Not yet: {name}. {label}: rows {j} and {i} "
+                                   "are the same logarithm; list each once.\nHint: "
+                                   "the logarithms are (theta + 2 pi k) n, one for "
+                                   "each integer k with |theta + 2 pi k| < bound.")
         count = _count_below(theta, bound)
         if len(a) == count:
             continue
@@ -317,13 +321,33 @@ _HALF_AXES = [
 ]
 
 
+#: Exercise 4.3: how far ``2 n n^T - I`` may be from ``R`` (and ``|n|`` from 1). The
+#: half-turn construction gets within a few 1e-16; a component read off the diagonal as
+#: ``sqrt((R_jj + 1)/2)`` turns rounding noise of 1e-16 into an error near 1e-9 when
+#: ``n_j`` is tiny (the square root halves the digits, as arccos does near 0), and fails.
+AXIS_TOL_43 = 1e-12
+
+# Half-turns computed as exp(pi n), with rounding noise: about the last axis; about e_z,
+# where columns 1 and 2 of R + I hold only noise (1.2e-16), which catches a solution that
+# takes the first column that is not exactly zero; and about an axis whose first
+# component is 1e-9, where column 1 of R + I, 2e-9 n plus noise, is nonzero but gives the
+# axis only to about 1e-7, which catches a small threshold in place of the largest entry,
+# and the diagonal gives n_1 only to about 1e-9 (AXIS_TOL_43).
+_NOISY_AXES = [
+    _HALF_AXES[-1],
+    np.array([0.0, 0.0, 1.0]),
+    np.array([1e-9, 0.6, -0.8]) / np.linalg.norm([1e-9, 0.6, -0.8]),
+]
+
+
 def _halfturn_inputs():
-    """(label, R) pairs; the label shows the input matrix, never its axis. The last is
-    ``exp(pi n)`` about the last axis, with rounding noise."""
-    cases = [_halfturn(n) for n in _HALF_AXES] + [exp(np.pi * _HALF_AXES[-1])]
-    return [(f"R = {(np.round(R, 4) + 0.0).tolist()}"
-             + (" (exp(pi n), with rounding noise)" if i == len(_HALF_AXES) else ""), R)
-            for i, R in enumerate(cases)]
+    """(label, R) pairs; the label shows the input matrix, never its axis. The last three
+    are ``exp(pi n)``, with rounding noise."""
+    exact = [(f"R = {(np.round(R, 4) + 0.0).tolist()}", R)
+             for R in (_halfturn(n) for n in _HALF_AXES)]
+    noisy = [(f"R = {(np.round(R, 4) + 0.0).tolist()} (exp(pi n), with rounding noise)", R)
+             for R in (exp(np.pi * n) for n in _NOISY_AXES)]
+    return exact + noisy
 
 
 @never_raises("halfturn_axis")
@@ -331,10 +355,12 @@ def check_halfturn_axis(func):
     r"""Exercise 4.3: ``func(R)`` must return a unit axis ``n`` of a rotation by pi,
     ``R + I = 2 n n^T`` (notebook 04, (4.13)); either sign is accepted.
 
-    Tests the defining property: ``n`` has length 1 and ``2 n n^T - I`` is ``R``.
-    Recognises a column that is not normalised, :math:`\pi n` in place of ``n``, and the
-    zero column (NaN) that comes from always taking the first column. Refuses a call to a
-    logarithm (``log(R) / pi`` would do), watched as in exercise 4.4.
+    Tests the defining property: ``n`` has length 1 and ``2 n n^T - I`` is ``R``, within
+    :data:`AXIS_TOL_43`, on six exact half-turns and three computed ones that carry
+    rounding noise. Recognises a column that is not normalised, :math:`\pi n` in place of
+    ``n``, the zero column (NaN) that comes from always taking the first column, and a
+    column or a diagonal entry that is only noise. Refuses a call to a logarithm
+    (``log(R) / pi`` would do), watched as in exercise 4.4.
     """
     name = "halfturn_axis"
     if func is None or func is Ellipsis or not callable(func):
@@ -366,10 +392,10 @@ def check_halfturn_axis(func):
                                    "the column j with the largest diagonal entry R[j, j]: "
                                    "then 2 n_j^2 = R[j, j] + 1 >= 2/3.")
         length = float(np.linalg.norm(a))
-        if abs(length - 1) <= 1e-8 and np.abs(_halfturn(a) - R).max() <= 1e-8:
+        if abs(length - 1) <= AXIS_TOL_43 and np.abs(_halfturn(a) - R).max() <= AXIS_TOL_43:
             continue
         u = a / length if length > 0 else a
-        along = length > 0 and np.abs(_halfturn(u) - R).max() <= 1e-8
+        along = length > 0 and np.abs(_halfturn(u) - R).max() <= AXIS_TOL_43
         if along:               # the right line, the wrong length: say that, not "0"
             if abs(length - np.pi) <= 1e-7:
                 hint = "That is the logarithm pi n; the exercise asks for the unit axis n."
@@ -380,11 +406,18 @@ def check_halfturn_axis(func):
                                    "2 n n^T - I is not R.\nHint: " + hint)
         hint = ("R + I = 2 n n^T, so every column of R + I is a multiple of n: take "
                 "the one with the largest diagonal entry and normalise it.")
+        if "noise" in label:
+            hint = ("On a computed half-turn the entries of R carry rounding noise of "
+                    "about 1e-16. A column of R + I that should be 0 (or tiny) is then "
+                    "mostly noise, and so is a small n_j read off the diagonal as "
+                    "sqrt((R[j, j] + 1)/2): the square root turns 1e-16 into 1e-8. "
+                    + hint)
         return Feedback(False, f"Not yet: {name}. For {label} it returned {_fmt(a)}, "
                                "which is not its axis: even normalised, 2 n n^T - I differs "
                                f"from R by {np.abs(_halfturn(u) - R).max():.2g}.\nHint: {hint}")
     return Feedback(True, f"Correct: {name}. It finds the axis (up to its sign, which is "
-                          f"free at a half-turn) of {len(_HALF_AXES) + 1} half-turns.")
+                          f"free at a half-turn) of {len(_HALF_AXES) + len(_NOISY_AXES)} "
+                          "half-turns.")
 
 
 # --------------------------------------------------------------------------- 4.4

@@ -204,6 +204,8 @@ def test_all_logs_right_answer_passes_in_any_order():
     fb = check_all_logs(_all_logs)
     assert fb and repr(fb).startswith("Correct: all_logs")
     assert check_all_logs(lambda R, b: _all_logs(R, b)[::-1])
+    assert check_all_logs(lambda R, b: np.array(_all_logs(R, b)))    # none: shape (0,)
+    assert check_all_logs(lambda R, b: np.array(_all_logs(R, b)).reshape(-1, 3))
 
 
 @pytest.mark.parametrize("student, says", [
@@ -225,6 +227,9 @@ def test_all_logs_right_answer_passes_in_any_order():
     (lambda R, b: _all_logs_ks(R, b, 3), "How far must k run"),
     (lambda R, b: _all_logs_ks(R, b, 10), "How far must k run"),     # a fixed range
     (lambda R, b: _all_logs_ks(R, b, 100), "all_logs\\(R, 2000\\)"),   # a generous one
+    (lambda R, b: [so3lib.log(R)] + [p for p in _all_logs(R, b)
+                                     if np.abs(p - so3lib.log(R)).max() > 1e-9],
+     "all_logs\\(R, 2\\)(.|\\n)*not below the bound"),                  # Log R always
 ])
 def test_all_logs_wrong_answers_get_a_message(student, says):
     _says(check_all_logs(student), says)

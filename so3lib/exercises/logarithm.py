@@ -214,6 +214,7 @@ _ALL_LOG_INPUTS = [
     (exp([0.0, 3.0, 0.0]), 10.0),
     (exp([-1.1, 0.4, 0.8]), 160.0),
     (exp([0.7, -0.2, 0.4]), 2000.0),
+    (exp([0.0, 2.5, 0.0]), 2.0),        # a bound below theta: no logarithm, not even Log R
 ]
 
 
@@ -236,6 +237,8 @@ def check_all_logs(func):
     range of ``k`` that stops one short (``|k| <= bound / 2 pi``) misses a row on the
     fourth rotation, and one fixed in advance misses rows on the fifth (bound 160, so
     ``|k| <= 10`` falls short) or the sixth (bound 2000: ``|k| <= 100`` falls short).
+    The seventh has a bound below its angle: no rows at all, so ``Log R`` kept
+    unconditionally is refused.
     """
     name = "all_logs"
     if func is None or func is Ellipsis or not callable(func):
@@ -253,6 +256,8 @@ def check_all_logs(func):
                                    "not an array of numbers (a list of 3-vectors is fine).")
         if a.shape == (3,):
             a = a[None, :]
+        if a.size == 0:                 # np.array([]) for "none": shape (0,)
+            a = a.reshape(0, 3)
         if a.ndim != 2 or a.shape[1] != 3:
             return Feedback(False, f"Not yet: {name}. {label} returned shape {a.shape}; "
                                    "expected shape (m, 3), one rotation vector per row.")

@@ -266,6 +266,18 @@ def test_B_refuses_the_naive_form_next_to_multiples_of_2pi():
     _says(check_B(spares_2pi), "B_stable", r"B_stable\(-6\.28719\) has a relative error")
 
 
+@pytest.mark.parametrize("start, x_shown", [(20.0, r"25\.1327"), (30.0, r"6283\.19"),
+                                            (1e4, r"6\.28319e\+06"), (1e7, r"6\.28319e\+09")])
+def test_B_refuses_a_naive_branch_kept_only_far_out(start, x_shown):
+    """A naive branch only above 20 (beyond 6 pi + 0.002), 30 (the end of the plain
+    range), 1e4 or 1e7 is wrong next to 8 pi, 2000 pi, 2e6 pi and 2e9 pi: refused there."""
+    def far_naive(x):
+        if abs(x) > start:
+            return (1 - math.cos(x)) / x ** 2
+        return 0.5 if x == 0 else 2 * (math.sin(x / 2) / x) ** 2
+    _says(check_B(far_naive), "B_stable", rf"B_stable\({x_shown}\) has a relative error")
+
+
 def test_B_typed_as_displayed_hears_about_the_squares_that_underflow():
     """2*sin(x/2)**2/x**2, with B(0) = 1/2 apart, divides 0 by 0 at 1e-300: the hint is
     about the squares, not the formula the learner already typed."""

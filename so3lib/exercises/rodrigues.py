@@ -250,8 +250,11 @@ _B_INPUTS = [1.0, 2.5, -0.5, 1e-8, 1e-5, 1e-3, 0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0
              -0.7, 1e-300, 30.0]
 # next to the nonzero multiples of 2 pi, where cos x is again next to 1 and 1 - cos x
 # cancels: the naive form kept for large x is off by 1 at 2 pi (the float), 2.3e-12 at
-# 2 pi + 0.004, 1.5e-12 at 4 pi - 0.003 and 1.9e-11 at 6 pi + 0.002
+# 2 pi + 0.004, 1.5e-12 at 4 pi - 0.003 and 1.9e-11 at 6 pi + 0.002; and the floats
+# nearest 8 pi, 2000 pi, 2e6 pi and 2e9 pi, so that a naive branch kept only above 20 (or
+# 1e3, 1e6) is caught too: off by 1 at the first three and 7e-3 at the last
 _B_INPUTS += [2 * math.pi, -2 * math.pi - 0.004, 4 * math.pi - 0.003, 6 * math.pi + 0.002]
+_B_INPUTS += [2 * math.pi * k for k in (4, 10**3, 10**6, 10**9)]
 # then a dense sweep of both signs, 1e-4 to 1 (steps of 17%), and the points just below
 # the round switch-overs: a Taylor branch kept up to 0.01 or 0.1 is off by 3e-11 or 5e-11
 # just below it, which the coarse list above misses
@@ -320,8 +323,9 @@ def check_B(func):
 
     Compares with the library's ``so3lib.B`` at ``x`` from 1 down to 1e-8, then ``x = 0``
     (where ``B = 1/2``), the middle range 0.01 to 0.45 (where a Taylor polynomial kept
-    too long fails), ``1e-300`` and ``x = 30``, next to 2 pi, 4 pi and 6 pi (where the
-    naive form cancels again), then just below the round switch-overs
+    too long fails), ``1e-300`` and ``x = 30``, next to 2 pi, 4 pi, 6 pi and 8 pi and at
+    the floats nearest ``2 pi k`` for ``k = 1e3, 1e6, 1e9`` (where the naive form cancels
+    again), then just below the round switch-overs
     0.005, 0.01, 0.05, 0.1, at 60 values of each sign from 1e-4 to 1 and every 1% from
     1e-3 to 0.5. A wrong value gets its relative error and the usual mistake it matches
     (below ``|x| = 1e-150``: squares that underflow). A function that is, or calls, ``so3lib.B`` (which the
@@ -355,5 +359,6 @@ def check_B(func):
             return _fail(name, f"{shown} has {size}.", _diagnose_B(got, x, ref) or _B_HINT)
     return Feedback(True, f"Correct: {name}. It is accurate to 1e-12 (relative) at "
                           f"{len(_B_INPUTS)} values of x, from 0 and 1e-300 through the "
-                          "middle range, every 1% from 0.001 to 0.5, to 30, and next to "
-                          "2 pi, 4 pi and 6 pi.")
+                          "middle range, every 1% from 0.001 to 0.5, to 30, next to "
+                          "2 pi, 4 pi, 6 pi and 8 pi, and at the floats nearest 2 pi k for "
+                          "k = 1e3, 1e6 and 1e9.")

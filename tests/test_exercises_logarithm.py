@@ -95,7 +95,7 @@ def _halfturn_axis(R):
 def test_halfturn_axis_right_answer_passes_with_either_sign():
     fb = check_halfturn_axis(_halfturn_axis)
     assert fb and repr(fb).startswith("Correct: halfturn_axis")
-    assert "of 9 half-turns" in repr(fb), repr(fb)
+    assert "of 10 half-turns" in repr(fb), repr(fb)
     assert check_halfturn_axis(lambda R: -_halfturn_axis(R))
 
 
@@ -156,6 +156,10 @@ def _skew_axis(R):
     (_skew_axis, "skew part R - R\\^T is 0"),
     (_first_nonzero_column, "with rounding noise(.|\\n)*should be 0 \\(or tiny\\)"),
     (_first_column_above, "with rounding noise(.|\\n)*mostly noise"),
+    # thresholds of 1e-8 and 1e-6 skip the 1e-9 axis's column, but not that of the axis
+    # with a 1e-5 component, which gives the axis only to about 5e-11
+    (lambda R: _first_column_above(R, 1e-8), "with rounding noise(.|\\n)*mostly noise"),
+    (lambda R: _first_column_above(R, 1e-6), "with rounding noise(.|\\n)*mostly noise"),
     (_signs_from_row_j, "with rounding noise(.|\\n)*square root"),
     (lambda R: np.pi * _halfturn_axis(R), "logarithm pi n"),
     (lambda R: 2 * _halfturn_axis(R), "right direction, but length 2, not 1"),

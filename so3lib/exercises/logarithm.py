@@ -337,16 +337,20 @@ AXIS_TOL_43 = 1e-12
 # takes the first column that is not exactly zero; and about an axis whose first
 # component is 1e-9, where column 1 of R + I, 2e-9 n plus noise, is nonzero but gives the
 # axis only to about 1e-7, which catches a small threshold in place of the largest entry,
-# and the diagonal gives n_1 only to about 1e-9 (AXIS_TOL_43).
+# and the diagonal gives n_1 only to about 1e-9 (AXIS_TOL_43); and about an axis whose
+# first component is 1e-5, where column 1 (length 2e-5) gives the axis only to about
+# 5e-11, which catches any threshold on the column's length below 2e-5 (1e-8 and 1e-6
+# pass the 1e-9 axis, whose column is shorter than them).
 _NOISY_AXES = [
     _HALF_AXES[-1],
     np.array([0.0, 0.0, 1.0]),
     np.array([1e-9, 0.6, -0.8]) / np.linalg.norm([1e-9, 0.6, -0.8]),
+    np.array([1e-5, 0.28, 0.96]) / np.linalg.norm([1e-5, 0.28, 0.96]),
 ]
 
 
 def _halfturn_inputs():
-    """(label, R) pairs; the label shows the input matrix, never its axis. The last three
+    """(label, R) pairs; the label shows the input matrix, never its axis. The last four
     are ``exp(pi n)``, with rounding noise."""
     exact = [(f"R = {(np.round(R, 4) + 0.0).tolist()}", R)
              for R in (_halfturn(n) for n in _HALF_AXES)]
@@ -361,7 +365,7 @@ def check_halfturn_axis(func):
     ``R + I = 2 n n^T`` (notebook 04, (4.13)); either sign is accepted.
 
     Tests the defining property: ``n`` has length 1 and ``2 n n^T - I`` is ``R``, within
-    :data:`AXIS_TOL_43`, on six exact half-turns and three computed ones that carry
+    :data:`AXIS_TOL_43`, on six exact half-turns and four computed ones that carry
     rounding noise. Recognises a column that is not normalised, :math:`\pi n` in place of
     ``n``, the zero column (NaN) that comes from always taking the first column, and a
     column or a diagonal entry that is only noise. Refuses a call to a logarithm
@@ -414,12 +418,15 @@ def check_halfturn_axis(func):
         if "noise" in label:
             hint = ("On a computed half-turn the entries of R carry rounding noise of "
                     "about 1e-16. A column of R + I that should be 0 (or tiny) is then "
-                    "mostly noise, and so is a small n_j read off the diagonal as "
-                    "sqrt((R[j, j] + 1)/2): the square root turns 1e-16 into 1e-8. "
+                    "mostly noise, and a short column gives the axis only to about 1e-16 "
+                    "divided by its length. A small n_j read off the diagonal as "
+                    "sqrt((R[j, j] + 1)/2) is noisy too: the square root turns 1e-16 into "
+                    "1e-8. "
                     + hint)
         return Feedback(False, f"Not yet: {name}. For {label} it returned {_fmt(a)}, "
                                "which is not its axis: even normalised, 2 n n^T - I differs "
-                               f"from R by {np.abs(_halfturn(u) - R).max():.2g}.\nHint: {hint}")
+                               f"from R by {np.abs(_halfturn(u) - R).max():.2g} (allowed: "
+                               f"{AXIS_TOL_43:g}).\nHint: {hint}")
     return Feedback(True, f"Correct: {name}. It finds the axis (up to its sign, which is "
                           f"free at a half-turn) of {len(_HALF_AXES) + len(_NOISY_AXES)} "
                           "half-turns.")

@@ -9,7 +9,8 @@ exercise       the learner writes                          checker
                naive ``(1 - cos x)/x^2`` keeps only 8
                correct digits (predicted, then measured)
 2.3            ``B_stable(x) = (1 - cos x)/x^2``,          :func:`check_B`
-               accurate at every ``x``, ``B(0) = 1/2``
+               accurate wherever ``B`` is a normal
+               float, ``B(0) = 1/2``
 =============  ==========================================  ============================
 
 Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises, and none

@@ -200,8 +200,8 @@ def _loop_of_products(a, p):
     M = np.eye(3)
     for _ in range(p):
         M = M @ H
-    if p == 0:
-        return (1.0, 0.0, 0.0)
+    if p == 0 or not a.any():                 # at a = 0 the read-off below is 0 / 0
+        return (float(p == 0), 0.0, 0.0)
     H2 = H @ H
     return (0.0, np.sum(M * H) / np.sum(H * H), np.sum(M * H2) / np.sum(H2 * H2))
 
@@ -232,6 +232,13 @@ def _loop_solve(a, p):
     return _fit(H, M)
 
 
+def _via_funm(a, p):
+    # a matrix function that is the power: funm(H, x -> x^p)
+    H = _hand_hat(a)
+    M = np.real(scipy.linalg.funm(H, lambda x: x ** p))
+    return (float(p == 0), np.sum(M * H) / max(np.sum(H * H), 1.0), 0.0)
+
+
 def _eigen(a, p):
     H = _hand_hat(a)
     w, V = np.linalg.eig(H)
@@ -256,7 +263,7 @@ def _own_solve():
 def test_power_coefficients_right_answers_pass():
     fb = check_power_coefficients(_student)
     assert fb and repr(fb).startswith("Correct: power_coefficients"), repr(fb)
-    assert "p = 400" in repr(fb)
+    assert "p = 400" in repr(fb) and "one of them 0" in repr(fb)
 
 
 @pytest.mark.parametrize("student, names", [
@@ -267,6 +274,7 @@ def test_power_coefficients_right_answers_pass():
     (_renamed, "matrix_power"),
     (_closure_route(), "cross, matrix_power"),
     (_fractional_pinv, "fractional_matrix_power, pinv"),
+    (_via_funm, "funm"),
     (_loop_solve, r"solve \(inside _fit\)"),
     (_eigen, "eig, inv"),
 ])
@@ -298,6 +306,30 @@ def test_power_coefficients_tests_a_large_power():
           r"power_coefficients\(\[0\.6, 0\. , 0\.8\], 400\)(.|\n)*p = 400 is even")
 
 
+def _divides_by_norm(a, p):
+    # hat(a)^p = |a|^p hat(n)^p, with the coefficient divided back by |a| (or |a|^2):
+    # right for a != 0, NaN at a = 0
+    a = np.asarray(a, dtype=float)
+    r = np.linalg.norm(a)
+    if p == 0:
+        return (1.0, 0.0, 0.0)
+    s = (-1) ** ((p - 1) // 2)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (0.0, s * r**p / r, 0.0) if p % 2 else (0.0, 0.0, s * r**p / r**2)
+
+
+def _divides_by_float_norm(a, p):
+    r = float(np.sqrt(np.dot(a, a)))
+    if p == 0:
+        return (1.0, 0.0, 0.0)
+    s = (-1) ** ((p - 1) // 2)
+    return (0.0, s * r**p / r, 0.0) if p % 2 else (0.0, 0.0, s * r**p / r**2)
+
+
+def _identity_at_zero(a, p):
+    return (1.0, 0.0, 0.0) if not np.any(a) else _student(a, p)
+
+
 def _forgets_identity(a, p):
     return _student(a, p) if p else (0.0, 0.0, -1.0 / float(np.dot(a, a)))
 
@@ -325,6 +357,9 @@ def _uses_norm_not_square(a, p):
     (_forgets_identity, r"power_coefficients\(.*, 0\)(.|\n)*hat\(a\)\^0 is the identity"),
     (_wrong_sign, r"minus hat\(a\)\^3(.|\n)*sign is wrong(.|\n)*p = 3 is odd"),
     (_uses_norm_not_square, r"p = 3 is odd(.|\n)*\(a @ a\)\*\*k|p = 4 is even"),
+    (_divides_by_norm, r"\[0\., 0\., 0\.\], 1\), the answer contains NaN(.|\n)*At a = 0"),
+    (_divides_by_float_norm, r"\[0\., 0\., 0\.\], 1\) raised ZeroDivisionError(.|\n)*At a = 0"),
+    (_identity_at_zero, r"\[0\., 0\., 0\.\], 1\), c0 I(.|\n)*At a = 0"),
 ])
 def test_power_coefficients_wrong_answers_get_a_message(student, pattern):
     _says(check_power_coefficients(student), "power_coefficients", pattern)

@@ -16,9 +16,9 @@ Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises. A 
 holds no answer: it tests the defining property of what the learner hands in (``S`` is
 symmetric, ``K`` skew and ``S + K = M``; ``c hat(a)`` equals ``hat(a)^5`` multiplied out
 with a matrix power) and never prints the value it is looking for. The checker of 1.3
-also refuses code that calls a matrix route (``matrix_power``, ``eig``, a fit with ``lstsq``,
-``solve`` or ``pinv``, ...), directly, through a function of the learner's own or under
-another name, since the exercise asks for the formula. When an answer is wrong it names
+also refuses code that calls a matrix route (``matrix_power``, ``funm``, ``eig``, a fit
+with ``lstsq``, ``solve`` or ``pinv``, ...), directly, through a function of the learner's
+own or under another name, since the exercise asks for the formula. When an answer is wrong it names
 the usual mistake it matches, with a hint; a wrong answer is never measured against the
 right one in the message (the size of the difference would give the answer away).
 """
@@ -230,10 +230,18 @@ def _power_hint(p):
             "no square root is needed.")
 
 
+#: The hint for a wrong answer on the zero vector, where hat(a) = 0: the formulas hold as
+#: they stand (``0.0 ** 0`` is 1), and an answer that divides by ``|a|`` breaks.
+_ZERO_HINT = ("At a = 0, hat(a) is the zero matrix, and (1.7) and (1.8) hold as they stand "
+              "(|a|^0 = (a @ a)**0 = 1): nothing needs dividing by |a|. And hat(a)^0 is "
+              "still I.")
+
+
 #: Names whose use means the matrix power is computed (or fitted), not the formula
-#: (exercise 1.3): powers and functions of a matrix, the ways to fit three coefficients to
-#: one, and the ready-made hat (``hat``, or ``cross`` with the identity).
-_MATRIX_ROUTE = frozenset({"matrix_power", "fractional_matrix_power", "expm", "eig",
+#: (exercise 1.3): powers and functions of a matrix (``funm(H, lambda x: x**p)`` is the
+#: power), the ways to fit three coefficients to one, and the ready-made hat (``hat``, or
+#: ``cross`` with the identity).
+_MATRIX_ROUTE = frozenset({"matrix_power", "fractional_matrix_power", "funm", "expm", "eig",
                            "lstsq", "solve", "pinv", "inv", "hat", "cross"})
 
 
@@ -298,14 +306,15 @@ def check_power_coefficients(func):
 
     The defining property is tested directly: ``c0 I + c1 hat(a) + c2 hat(a)^2`` against
     ``np.linalg.matrix_power(hat(a), p)``, relative to the size of the power, for
-    ``p = 1, ..., 12`` and then ``p = 0``, on two vectors of different length, and then for
+    ``p = 1, ..., 12`` and then ``p = 0``, on two vectors of different length and on the
+    zero vector (an answer that divides by ``|a|`` gives NaN there), and then for
     ``p = 400`` on ``a = (0.6, 0, 0.8)``. It stops at the first wrong answer with a hint
-    for that ``p``.
+    for that ``p`` (on the zero vector, a hint for ``a = 0``).
 
     The exercise asks for the formulas (1.7) and (1.8), so a function whose code names a
-    matrix route (:data:`_MATRIX_ROUTE`: a matrix power or function, ``eig``, a fit with
-    ``lstsq``, ``solve``, ``pinv`` or ``inv``, ``hat``, ``cross``) is refused: in its own
-    code, in a function defined inside it, in a function of the notebook it calls, or
+    matrix route (:data:`_MATRIX_ROUTE`: a matrix power or function (``funm`` too), ``eig``,
+    a fit with ``lstsq``, ``solve``, ``pinv`` or ``inv``, ``hat``, ``cross``) is refused: in
+    its own code, in a function defined inside it, in a function of the notebook it calls, or
     under another name (see :func:`_matrix_route`). A hand-written loop of ``@`` products
     is not seen, nor is ``matmul``: ``a @ a`` (or ``np.matmul(a, a)``) is also how the
     formula computes ``|a|^2``.
@@ -323,17 +332,19 @@ def check_power_coefficients(func):
                            "asks for the formula.",
                      "Use (1.7) and (1.8): only the number |a|^2 = a @ a and the parity "
                      "of p are needed.")
-    vectors = (np.array([1.0, 2.0, 3.0]), np.array([0.5, -1.0, 0.25]))
+    vectors = (np.array([1.0, 2.0, 3.0]), np.array([0.5, -1.0, 0.25]), np.zeros(3))
     cases = [(p, a) for p in list(range(1, 13)) + [0] for a in vectors]
     cases.append((400, np.array([0.6, 0.0, 0.8])))     # |a|^2 = 1 exactly in floats
     for p, a in cases:
         shown = f"power_coefficients({np.array2string(a, separator=', ')}, {p})"
-        got, fb = _call(func, name, (a, p), shown, _power_hint(p))
+        hint = _power_hint(p) if a.any() else _ZERO_HINT
+        got, fb = _call(func, name, (a, p), shown, hint)
         if fb is not None:
             return fb
         problem = _shape_problem(got, (3,), f"On {shown}, the answer")
         if problem:
-            return _fail(name, problem, "Return three numbers, (c0, c1, c2).")
+            return _fail(name, problem,
+                         "Return three numbers, (c0, c1, c2)." if a.any() else _ZERO_HINT)
         c = np.asarray(got, dtype=float)
         H = hat(a)
         power = np.linalg.matrix_power(H, p)
@@ -344,7 +355,7 @@ def check_power_coefficients(func):
                 why = f"is minus hat(a)^{p} (multiplied out): the sign is wrong."
             else:
                 why = f"is not hat(a)^{p} (multiplied out)."
-            return _fail(name, f"On {shown}, c0 I + c1 hat(a) + c2 hat(a)^2 {why}",
-                         _power_hint(p))
+            return _fail(name, f"On {shown}, c0 I + c1 hat(a) + c2 hat(a)^2 {why}", hint)
     return Feedback(True, f"Correct: {name}. c0 I + c1 hat(a) + c2 hat(a)^2 equals the matrix "
-                          "power for p = 0, ..., 12 and two vectors a, and for p = 400.")
+                          "power for p = 0, ..., 12 and three vectors a (one of them 0), and "
+                          "for p = 400.")

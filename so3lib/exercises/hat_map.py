@@ -74,6 +74,11 @@ def _call(func, name, args, shown, hint=None):
 def _shape_problem(got, shape, what):
     """A sentence when ``got`` is not a finite float array of ``shape``, else None."""
     try:
+        if np.iscomplexobj(np.asarray(got)):            # e.g. (-1)**k with k = 0.5
+            return f"{what} contains a complex number; it should be real."
+    except Exception:  # noqa: BLE001 -- a checker never raises
+        pass
+    try:
         arr = np.asarray(got, dtype=float)
     except Exception:  # noqa: BLE001 -- a checker never raises
         return f"{what} is a {type(got).__name__}, not a number or an array of numbers."
@@ -343,6 +348,9 @@ def check_power_coefficients(func):
             return fb
         problem = _shape_problem(got, (3,), f"On {shown}, the answer")
         if problem:
+            if "complex" in problem:                    # (-1)**k or x**k with k = 0.5, ...
+                return _fail(name, problem + " A power x**k with a non-integer k (such as "
+                             "(-1)**0.5) gives a complex number.", hint)
             return _fail(name, problem,
                          "Return three numbers, (c0, c1, c2)." if a.any() else _ZERO_HINT)
         c = np.asarray(got, dtype=float)

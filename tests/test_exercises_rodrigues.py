@@ -354,3 +354,20 @@ def test_notebook_02_names_the_argument_of_A_and_B_x():
     assert "x_8_digits = ..." in code and "check_naive_B_digits(x_8_digits)" in code
     assert "t_8_digits" not in code and "def B_stable(x):" in code
     assert "x_8_digits" in repr(check_naive_B_digits(None))
+
+
+def test_exercise_2_3_range_in_the_notebook_covers_the_checkers_points():
+    """Exercise 2.3 asks for 1e-12 for |x| <= 1e10: every point the checker tries lies in
+    that range, and there B is a normal float that the divide-first solution meets."""
+    import mpmath
+
+    from so3lib.exercises.rodrigues import _B_INPUTS
+    assert r"for every $|x| \le 10^{10}$" in _notebook_02_prose()
+    assert max(abs(x) for x in _B_INPUTS) <= 1e10
+    rng = np.random.default_rng(23)
+    for x in list(10 ** rng.uniform(-300, 10, 300)) + [2 * math.pi * 1e9, 1e10]:
+        with mpmath.workdps(40 + max(0, int(-2 * math.log10(x)))):
+            ref = (1 - mpmath.cos(mpmath.mpf(x))) / mpmath.mpf(x) ** 2
+        got = 0.5 - x * x / 24 if x < 1e-4 else 2 * (math.sin(x / 2) / x) ** 2
+        assert float(ref) > 2.2e-308
+        assert abs(got - float(ref)) <= 4 * 2.2e-16 * float(ref), x

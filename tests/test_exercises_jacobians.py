@@ -73,7 +73,6 @@ def test_common_mistakes(checker, name, answer, pattern):
 
 def test_right_answers_pass():
     assert check_ominus_jacobians(ominus_jacobians)
-    assert check_ominus_jacobians(ominus_written)
     assert check_ominus_jacobians(lambda R1, R0: np.stack(ominus_jacobians(R1, R0)))
     assert check_C_stable(c_stable)
     assert check_body_jacobian(lambda phi, b: hat(exp(phi).T @ b) @ right_jacobian(phi))
@@ -182,8 +181,8 @@ def _D_written(t):
     lambda t: 1 / 12 + t * t / 720 + t**4 / 30240 if t < 0.5 else _D_written(t),
 ])
 def test_ominus_jacobians_D_kept_too_far_is_refused(D_of):
-    """A Taylor series of D kept too far is wrong only between 2.4e-3 and 1.3 rad, where
-    the first four pairs have no angle: the pairs in between catch it, by name."""
+    """A Taylor series of D kept too far is wrong only on a range of turns: the pairs,
+    5 % apart, catch it, by name."""
     says_for(check_ominus_jacobians(_ominus_with_D(D_of)), "ominus_jacobians",
              r"along hat\(phi\)\^2.*Taylor series kept too far")
 
@@ -240,3 +239,53 @@ def test_C_stable_reference_is_mpmath_not_the_library():
             want = float((x - mp.sin(x)) / x**3)
         assert ex._C_ref(t) == pytest.approx(want, rel=1e-15, abs=0)
     assert "_C_lib(t)" not in open(ex.__file__).read()
+
+
+def test_ominus_jacobians_written_D_is_refused():
+    """(6.9) as written is 0/0 at R1 = R0, and with that branch mended it still loses
+    1 + cos theta near a half-turn (7e-9 at pi - 1e-7): both are refused."""
+    says_for(check_ominus_jacobians(ominus_written), "ominus_jacobians",
+             r"R1 = R0.*NaN.*0/0 in D")
+    says_for(check_ominus_jacobians(_ominus_with_D(
+        lambda t: 1 / 12 if t == 0 else _D_written(t))), "ominus_jacobians",
+        r"3\.14159.*along hat\(phi\)\^2")
+
+
+@pytest.mark.parametrize("terms, cut", [(8, 1.76), (11, 2.34), (14, 2.98), (2, 0.2)])
+def test_ominus_jacobians_D_series_cut_over_grid(terms, cut):
+    """Taylor D with `terms` terms below `cut`, (6.11) above: wrong by 1e-11 to 3e-10
+    just below `cut`, which the 17 pairs of an earlier version let through."""
+    coeffs = so3lib.jacobians._D_SERIES[:terms]
+
+    def D_of(t):
+        if t < cut:
+            return sum(c * t**(2 * k) for k, c in enumerate(coeffs))
+        return (1 - (t / 2) / np.tan(t / 2)) / t**2
+    assert not check_ominus_jacobians(_ominus_with_D(D_of))
+
+
+@pytest.mark.parametrize("cut", [0.002, 0.01, 0.029, 0.1])
+def test_body_jacobian_constant_B_C_below_a_cut_is_refused(cut):
+    """B = 1/2 and C = 1/6 below `cut`: wrong by about cut/6 there (3e-6 at 0.029, which
+    six cases at 0, 0.03, 0.3, ... let through)."""
+    def J_r(p):
+        t, K = np.linalg.norm(p), hat(p)
+        if t < cut:
+            b, c = 0.5, 1 / 6
+        else:
+            b, c = (1 - np.cos(t)) / t**2, (t - np.sin(t)) / t**3
+        return np.eye(3) - b * K + c * K @ K
+    assert not check_body_jacobian(lambda p, b: hat(exp(p).T @ b) @ J_r(p))
+
+
+@pytest.mark.parametrize("terms, cut", [(9, 3.0), (10, 3.6), (11, 3.9), (11, 4.4)])
+def test_C_stable_series_kept_past_two_is_refused(terms, cut):
+    """Taylor C with `terms` terms up to `cut` > 2: wrong by 1.3e-12 to 1.5e-11 above
+    2 rad, where the dense grid once stopped."""
+    coeffs = [(-1)**k / math.factorial(2 * k + 3) for k in range(terms)]
+
+    def late(t):
+        if abs(t) < cut:
+            return sum(c * (t * t)**k for k, c in enumerate(coeffs))
+        return (t - math.sin(t)) / t**3
+    says_for(check_C_stable(late), "C_stable", "Only larger t")

@@ -94,20 +94,24 @@ def _close(a, b, tol):
 
 # --- 6.1 the derivatives of ominus ---------------------------------------------------
 
-#: turns |R1 (-) R0| between the named pairs, about 1.5 apart: a coefficient D that keeps
-#: a Taylor series too far (or cancels) is wrong somewhere in the middle range
-_TURNS_61 = (0.005, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.22, 0.33, 0.5, 0.75, 1.0, 1.8)
+#: turns |R1 (-) R0| between the named pairs, 5 % apart from 1e-3 to 3.1 rad, then up to
+#: 1e-7 below a half-turn: a coefficient D that keeps a Taylor series too far, or cancels
+#: (as written, 0/0 at R1 = R0 and 1 + cos near pi), is wrong somewhere along them
+_TURNS_61 = tuple(float(t) for t in np.geomspace(1e-3, 3.1, 166)) + \
+    tuple(math.pi - 10.0**-k for k in range(2, 8))
 _AXES_61 = ((1.0, 2.0, -2.0), (-2.0, 1.0, 2.0), (2.0, 2.0, 1.0))
 
 
 def _pairs_61():
-    """(shown, R1, R0, phi) with R1 = R0 exp(phi): turns |phi| from 2.4e-3 to 3 rad."""
+    """(shown, R1, R0, phi) with R1 = R0 exp(phi): turns |phi| from 0 (R1 = R0) to
+    pi - 1e-7."""
     R0 = exp(np.array([0.4, -0.9, 1.3]))
-    phis = [("|R1 (-) R0| = 0.0024 rad", np.array([1e-3, 2e-3, -1e-3])),
+    phis = [("|R1 (-) R0| = 0 (R1 = R0)", np.zeros(3)),
+            ("|R1 (-) R0| = 0.0024 rad", np.array([1e-3, 2e-3, -1e-3])),
             ("|R1 (-) R0| = 1.3 rad", np.array([0.3, -0.4, 1.2])),
             ("|R1 (-) R0| = 2.4 rad", np.array([-1.2, 2.0, 0.6])),
             ("|R1 (-) R0| = 3 rad, near a half-turn", np.array([2.0, -1.0, 2.0]))]
-    phis += [(f"|R1 (-) R0| = {t:g} rad", t / 3 * np.array(_AXES_61[i % 3]))
+    phis += [(f"|R1 (-) R0| = {t:.10g} rad", t / 3 * np.array(_AXES_61[i % 3]))
              for i, t in enumerate(_TURNS_61)]
     return [(shown, R0 @ exp(phi), R0, phi) for shown, phi in phis]
 
@@ -122,16 +126,21 @@ def _log_mp(M):
 
 def _exp_mp(p):
     th = _mp.sqrt(sum(x * x for x in p))
+    if th == 0:
+        return _mp.eye(3)
     K = _mp.matrix([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
     return _mp.eye(3) + _mp.sin(th) / th * K + 2 * (_mp.sin(th / 2) / th)**2 * K * K
 
 
-def _fd_ominus(R1, R0):
-    """(J1, J0): 50-digit centred differences of Log(R0^T R1 exp(delta)) and of
-    Log((R0 exp(delta))^T R1) in delta, rounded to floats."""
+def _fd_ominus(phi):
+    """(J1, J0): 50-digit centred differences of Log(exp(phi) exp(delta)) and of
+    Log(exp(-delta) exp(phi)) in delta, rounded to floats. These are
+    R0^T (R1 exp(delta)) and (R0 exp(delta))^T R1 for R1 = R0 exp(phi), built from the
+    exact rotation exp(phi) (the float product R0^T R1 is a rotation only to rounding,
+    and near a half-turn the logarithm of the difference would swamp 1e-12)."""
     with _mp.workdps(50):
         h = _mp.mpf("1e-20")
-        A, B = _mp.matrix(R0.tolist()), _mp.matrix(R1.tolist())
+        E_phi = _exp_mp([_mp.mpf(float(x)) for x in phi])
         out = []
         for side in (1, 0):
             cols = []
@@ -139,7 +148,7 @@ def _fd_ominus(R1, R0):
                 steps = []
                 for sign in (1, -1):
                     E = _exp_mp([sign * h if i == j else _mp.mpf(0) for i in range(3)])
-                    M = A.T * B * E if side == 1 else (A * E).T * B
+                    M = E_phi * E if side == 1 else E.T * E_phi
                     steps.append(_log_mp(M))
                 cols.append([float((u - d) / (2 * h)) for u, d in zip(*steps)])
             out.append(np.array(cols).T)
@@ -165,6 +174,8 @@ def _along_hat2(err, phi):
     """True if ``err`` is (to 1 %) a multiple of hat(phi)^2: only the coefficient D is off."""
     K2 = hat(phi) @ hat(phi)
     size = float(np.abs(err).max())
+    if not K2.any():                # phi = 0: D plays no part
+        return False
     c = float(np.sum(err * K2) / np.sum(K2 * K2))
     return size > 0 and float(np.abs(err - c * K2).max()) <= 0.01 * size
 
@@ -209,8 +220,9 @@ def check_ominus_jacobians(func):
     :math:`\mathrm{Log}(R_0^T R_1 e^{\hat\delta}) \approx \varphi + J_1\delta` and
     :math:`\mathrm{Log}((R_0e^{\hat\delta})^T R_1) \approx \varphi + J_0\delta`,
     :math:`\varphi = R_1 \ominus R_0`, checked against 50-digit centred differences of
-    those logarithms (within 1e-12) at 17 pairs, turns from 2.4e-3 to 3 rad about 1.5
-    apart (so a coefficient wrong in the middle range is caught)."""
+    those logarithms (within 1e-12) at 177 pairs: R1 = R0, turns 5 % apart from 1e-3 to
+    3.1 rad, and up to 1e-7 below a half-turn (so a coefficient wrong in any range, or
+    0/0 at R1 = R0, is caught)."""
     name = "ominus_jacobians"
     fb = _start(func, name)
     if fb is not None:
@@ -230,8 +242,12 @@ def check_ominus_jacobians(func):
                                "`return` missing?")
         arr, why = _pair(got)
         if arr is None:
+            if not phi.any() and "NaN" in why:
+                why += (": at R1 = R0, 1/theta^2 and (1 + cos theta)/(2 theta sin theta) "
+                        "are both infinite (0/0 in D). so3lib's inverse Jacobians handle "
+                        "theta = 0")
             return _fail(name, f"On the pair with {shown}, {why}.")
-        j1, j0 = _fd_ominus(R1, R0)
+        j1, j0 = _fd_ominus(phi)
         ok1, ok0 = _close(arr[0], j1, 1e-12), _close(arr[1], j0, 1e-12)
         if not (ok1 and ok0):
             wrong = " and ".join(n for n, ok in (("J1", ok1), ("J0", ok0)) if not ok)
@@ -245,16 +261,16 @@ def check_ominus_jacobians(func):
                               "as exp(phi) times a small rotation, and use the derivatives "
                               "of Log after (6.9).")
     return _ok(name, f"(J1, J0) match 50-digit differences of R1 (-) R0 within 1e-12 on "
-                     f"{len(pairs)} pairs, turns from 2.4e-3 to 3 rad.")
+                     f"{len(pairs)} pairs, turns from 0 (R1 = R0) to pi - 1e-7 rad.")
 
 
 # --- 6.2 a C without cancellation ----------------------------------------------------
 
 _TS_62 = [1.0, 0.0, 1e-300, 1e-8, 1e-5, 1e-3, 0.1, 0.9, 1.7, 2.5, math.pi, 4.0, 10.0,
           100.0, -0.5, -1e-6]
-# a dense log-spaced grid from 1e-3 to 2, both signs: where a threshold between the series
-# and the written form goes wrong (either form too far from home)
-_TS_62 += [float(x) for g in np.geomspace(1e-3, 2.0, 160)[1:-1] for x in (g, -g)]
+# a dense log-spaced grid (2.5 % apart) from 1e-3 to 4.5, both signs: where a threshold
+# between the series and the written form goes wrong (either form too far from home)
+_TS_62 += [float(x) for g in np.geomspace(1e-3, 4.5, 341)[1:-1] for x in (g, -g)]
 # and just above round thresholds, where the written form starts
 _TS_62 += [1.02 * x for x in (0.002, 0.005, 0.01, 0.02, 0.03, 0.05, 0.2, 0.3, 0.5)]
 
@@ -405,6 +421,11 @@ def check_C_stable(func):
 
 # --- 6.3 the Jacobian of the residual in the body frame --------------------------------
 
+#: turns 5 % apart from 1e-4 to 3.1 rad: B and C kept as a Taylor series too far (or
+#: taken as 1/2 and 1/6) are wrong somewhere along them
+_TURNS_63 = tuple(float(t) for t in np.geomspace(1e-4, 3.1, 213))
+
+
 def _cases_63():
     b = np.array([1.0, -2.0, 0.5])
     return [
@@ -416,7 +437,8 @@ def _cases_63():
         ("phi = (0.3, -0.4, 1.2) and b = (1, -2, 0.5)", (np.array([0.3, -0.4, 1.2]), b)),
         ("phi = (2, -1, 2) and b = (0, 1, 1)", (np.array([2.0, -1.0, 2.0]),
                                                np.array([0.0, 1.0, 1.0]))),
-    ]
+    ] + [(f"|phi| = {t:.10g} rad along {_AXES_61[i % 3]} / 3 and b = (1, -2, 0.5)",
+          (t / 3 * np.array(_AXES_61[i % 3]), b)) for i, t in enumerate(_TURNS_63)]
 
 
 def _fd_body(phi, b):
@@ -460,7 +482,8 @@ def check_body_jacobian(func):
     r"""Exercise 6.3: ``body_jacobian(phi, b)`` is :math:`\partial(e^{-\hat\varphi}b)/
     \partial\varphi`, the derivative of the measured direction ``b`` seen in the body
     frame, checked against 50-digit centred differences of the exponential (within
-    1e-12, which differences in floats do not reach)."""
+    1e-12, which differences in floats do not reach) at phi = 0 and turns 5 % apart
+    from 1e-4 to 3.1 rad (219 cases)."""
     name = "body_jacobian"
     fb = _start(func, name)
     if fb is not None:

@@ -371,3 +371,13 @@ def test_exercise_2_3_range_in_the_notebook_covers_the_checkers_points():
         got = 0.5 - x * x / 24 if x < 1e-4 else 2 * (math.sin(x / 2) / x) ** 2
         assert float(ref) > 2.2e-308
         assert abs(got - float(ref)) <= 4 * 2.2e-16 * float(ref), x
+
+
+def test_exercise_2_3_says_how_many_points_the_checker_tries():
+    """The statement of exercise 2.3 gives the number of x the checker tries, as its
+    success message does: the notebook fails this test when the list changes."""
+    from so3lib.exercises.rodrigues import _B_INPUTS
+    n = len(_B_INPUTS)
+    assert f"at {n} values of $x$" in _notebook_02_prose()
+    assert f"at {n} values of x" in repr(check_B(lambda x: 0.5 - x * x / 24 if abs(x) < 1e-4
+                                                 else 2 * (math.sin(x / 2) / x) ** 2))

@@ -289,3 +289,48 @@ def test_C_stable_series_kept_past_two_is_refused(terms, cut):
             return sum(c * (t * t)**k for k, c in enumerate(coeffs))
         return (t - math.sin(t)) / t**3
     says_for(check_C_stable(late), "C_stable", "Only larger t")
+
+
+@pytest.mark.parametrize("cut", [0.0, 1e-8])
+def test_body_jacobian_written_B_C_mended_only_near_zero_is_refused(cut):
+    """The written (6.7) with J_r = I at |phi| <= cut: off by about eps/theta below 1e-6
+    (7e-10 at 1e-9, where cos theta rounds to 1), which turns from 1e-4 up let through."""
+    def J_r(p):
+        t, K = np.linalg.norm(p), hat(p)
+        if t <= cut:
+            return np.eye(3)
+        return np.eye(3) - (1 - np.cos(t)) / t**2 * K + (t - np.sin(t)) / t**3 * K @ K
+    says_for(check_body_jacobian(lambda p, b: hat(exp(p).T @ b) @ J_r(p)), "body_jacobian",
+             r"(?s)\|phi\| = 1e-09 rad.*not within 1e-12")
+
+
+def test_ominus_jacobians_theta_squared_underflow_is_refused():
+    """(6.11) mended only at theta = 0, with a norm that does not underflow: at a turn of
+    3e-200 rad theta^2 is 0 and D is 0/0."""
+    def D_of(t):
+        return 1 / 12 if t == 0 else (1 - (t / 2) / np.tan(t / 2)) / t**2
+
+    def answer(R1, R0):
+        phi = ominus(R1, R0)
+        t, K = math.hypot(*phi), hat(phi)
+        d = D_of(t)
+        return np.eye(3) + K / 2 + d * K @ K, -(np.eye(3) - K / 2 + d * K @ K)
+    says_for(check_ominus_jacobians(answer), "ominus_jacobians", r"3e-200.*NaN.*underflows")
+
+
+def test_C_stable_tiny_t_lost_is_named_and_hint_keeps_the_term_count():
+    """30 digits lose t - sin t at 1e-300: named as a small-t loss (not 'larger t'); no
+    hint hands over how many series terms a threshold needs."""
+    import mpmath as mp
+
+    def few_digits(t):
+        if t == 0:
+            return 1 / 6
+        with mp.workdps(30):
+            x = mp.mpf(t)
+            return float((x - mp.sin(x)) / x**3)
+    fb = check_C_stable(few_digits)
+    assert not fb
+    assert "Only small t go wrong (below 0.01)" in fb.message
+    for answer in (few_digits, lambda t: 1 / 6 - t * t / 120, (lambda t: (t - math.sin(t)) / t**3)):
+        assert "362880" not in check_C_stable(answer).message

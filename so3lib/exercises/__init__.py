@@ -14,7 +14,11 @@ for notebook 01, and so on); they are thin wrappers around :func:`check_value` a
 :func:`check_function` defined here.
 """
 
+import contextlib
+import dis
 import functools
+import sys
+import types
 
 import numpy as np
 
@@ -129,6 +133,65 @@ def never_raises(name):
                 return _fail(name, f"The answer could not be checked ({type(err).__name__}: {err}).")
         return safe
     return decorate
+
+
+@contextlib.contextmanager
+def _calls_watched(name_of):
+    """While inside, yield a list that gets a name each time the code entered a watched
+    function: ``name_of(code)`` names the code objects that count and returns None for the
+    rest. A profile hook (``sys.setprofile``) sees every Python function entered, however
+    the learner's code reached it (an alias, ``getattr``, a private helper behind it); the
+    previous hook is put back afterwards. Exercises that forbid a call use it."""
+    seen = []
+
+    def hook(frame, event, arg):
+        if event == "call":
+            name = name_of(frame.f_code)
+            if name is not None:
+                seen.append(name)
+
+    previous = sys.getprofile()
+    sys.setprofile(hook)
+    try:
+        yield seen
+    finally:
+        sys.setprofile(previous)
+
+
+def _code_names(func, banned, imported):
+    """True if the code of ``func`` (or of a function defined inside it) names one of the
+    objects ``banned``: by a global or enclosing-scope name bound to it, or an attribute
+    chain such as ``so3lib.so3.log`` that leads to it; or if it imports a name for which
+    ``imported(module, name)`` is true (``from so3lib import log`` inside the function).
+    Calls hidden from this reading are for :func:`_calls_watched` to catch."""
+    code = getattr(func, "__code__", None)
+    if not isinstance(code, types.CodeType):
+        return False
+    env = dict(getattr(func, "__globals__", {}))
+    for name, cell in zip(code.co_freevars, getattr(func, "__closure__", None) or ()):
+        try:
+            env[name] = cell.cell_contents
+        except ValueError:          # an empty cell
+            pass
+    todo = [code]
+    while todo:
+        c = todo.pop()
+        todo += [k for k in c.co_consts if isinstance(k, types.CodeType)]
+        obj, module = None, ""
+        for ins in dis.get_instructions(c):
+            if ins.opname == "IMPORT_NAME":
+                module = str(ins.argval)
+            elif ins.opname == "IMPORT_FROM" and imported(module, str(ins.argval)):
+                return True
+            if ins.opname in ("LOAD_GLOBAL", "LOAD_NAME", "LOAD_DEREF", "LOAD_CLOSURE"):
+                obj = env.get(ins.argval)
+            elif ins.opname in ("LOAD_ATTR", "LOAD_METHOD") and obj is not None:
+                obj = getattr(obj, str(ins.argval), None)
+            else:
+                obj = None
+            if obj is not None and any(obj is b for b in banned):
+                return True
+    return False
 
 
 def _labelled(inputs):

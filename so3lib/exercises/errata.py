@@ -16,16 +16,14 @@ expected answer.
 """
 
 import contextlib
-import dis
 import inspect
-import sys
 import types
 
 import numpy as np
 
 from .. import so3
 from ..so3 import exp
-from . import Feedback
+from . import Feedback, _calls_watched, _code_names
 
 __all__ = ["check_wrapped_velocity"]
 
@@ -72,45 +70,14 @@ def _package():
 
 
 def _calls_log(func):
-    """True if the code of ``func`` (or of a function defined inside it) names a logarithm
-    it must not call: a name bound to one of :func:`_forbidden` (global, from an enclosing
-    function, or imported inside it with ``from so3lib... import log``), or an attribute
-    chain such as ``so3lib.so3.log`` that leads to one. Calls that the code hides from this
-    reading (``as_rotvec`` on a SciPy rotation, ``getattr``) are caught by
-    :func:`_call_logging` while the function runs."""
-    code = getattr(func, "__code__", None)
-    if not isinstance(code, types.CodeType):
-        return False
-    bad = [getattr(owner, name) for owner, name in _forbidden()]
-    env = dict(getattr(func, "__globals__", {}))
-    for name, cell in zip(code.co_freevars, getattr(func, "__closure__", None) or ()):
-        try:
-            env[name] = cell.cell_contents
-        except ValueError:          # an empty cell
-            pass
-    loads = ("LOAD_GLOBAL", "LOAD_NAME", "LOAD_DEREF", "LOAD_CLOSURE", "LOAD_FAST")
-    todo = [code]
-    while todo:
-        c = todo.pop()
-        todo += [k for k in c.co_consts if isinstance(k, types.CodeType)]
-        obj, module = None, ""
-        for ins in dis.get_instructions(c):
-            if ins.opname == "IMPORT_NAME":
-                module = str(ins.argval)
-            elif ins.opname == "IMPORT_FROM":
-                if ins.argval in ("log", "logm") and module.split(".")[0] in ("so3lib", "scipy"):
-                    return True
-                if ins.argval == "as_rotvec":
-                    return True
-            if ins.opname in loads and ins.opname != "LOAD_FAST":
-                obj = env.get(ins.argval)
-            elif ins.opname in ("LOAD_ATTR", "LOAD_METHOD") and obj is not None:
-                obj = getattr(obj, ins.argval, None)
-            else:
-                obj = None
-            if obj is not None and any(obj is b for b in bad):
-                return True
-    return False
+    """True if the code of ``func`` names a logarithm it must not call (one of
+    :func:`_forbidden`, or ``log``, ``logm`` or ``as_rotvec`` imported inside it). Calls
+    that the code hides from this reading (``as_rotvec`` on a SciPy rotation, ``getattr``)
+    are caught by :func:`_call_logging` while the function runs."""
+    def imported(module, name):
+        return (name in ("log", "logm") and module.split(".")[0] in ("so3lib", "scipy")
+                or name == "as_rotvec")
+    return _code_names(func, [getattr(owner, name) for owner, name in _forbidden()], imported)
 
 
 def _logarithm_codes():
@@ -148,18 +115,11 @@ def _call_logging(calls):
             return _orig(*args, **kwargs)
         saved.append((owner, name, orig))
         setattr(owner, name, spy)
-    codes = _logarithm_codes()
-
-    def watch(frame, event, arg):
-        if event == "call" and frame.f_code in codes:
-            calls.append(codes[frame.f_code])
-
-    previous = sys.getprofile()
-    sys.setprofile(watch)
     try:
-        yield calls
+        with _calls_watched(_logarithm_codes().get) as seen:
+            yield calls
     finally:
-        sys.setprofile(previous)
+        calls.extend(seen)
         for owner, name, orig in reversed(saved):
             setattr(owner, name, orig)
 

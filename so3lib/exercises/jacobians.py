@@ -21,9 +21,7 @@ cancellation, a series kept too far) without printing the expected value.
 """
 
 import contextlib
-import dis
 import math
-import types
 
 import mpmath as _mp
 import numpy as np
@@ -31,7 +29,7 @@ import numpy as np
 from .. import jacobians as _jacobians
 from ..jacobians import C as _C_lib
 from ..so3 import exp, hat
-from . import _NOT_ANSWERED, Feedback, _fail, _fmt, _ok, never_raises
+from . import _NOT_ANSWERED, Feedback, _code_names, _fail, _fmt, _ok, never_raises
 
 __all__ = ["check_C_stable", "check_body_jacobian", "check_ominus_jacobians"]
 
@@ -297,35 +295,8 @@ def _names_C(func):
     enclosing or imported name bound to one, or an attribute chain such as
     ``so3lib.jacobians.C`` that leads to one."""
     banned = [_C_lib] + [getattr(_jacobians, name) for name in _PRIVATE_62]
-    code = getattr(func, "__code__", None)
-    if not isinstance(code, types.CodeType):
-        return False
-    env = dict(getattr(func, "__globals__", {}))
-    for name, cell in zip(code.co_freevars, getattr(func, "__closure__", None) or ()):
-        try:
-            env[name] = cell.cell_contents
-        except ValueError:          # an empty cell
-            pass
-    todo = [code]
-    while todo:
-        c = todo.pop()
-        todo += [k for k in c.co_consts if isinstance(k, types.CodeType)]
-        obj, module = None, ""
-        for ins in dis.get_instructions(c):
-            if ins.opname == "IMPORT_NAME":
-                module = str(ins.argval)
-            elif ins.opname == "IMPORT_FROM" and ins.argval in ("C", *_PRIVATE_62) and \
-                    module.split(".")[0] == "so3lib":
-                return True
-            if ins.opname in ("LOAD_GLOBAL", "LOAD_NAME", "LOAD_DEREF"):
-                obj = env.get(ins.argval)
-            elif ins.opname in ("LOAD_ATTR", "LOAD_METHOD") and obj is not None:
-                obj = getattr(obj, str(ins.argval), None)
-            else:
-                obj = None
-            if obj is not None and any(obj is b for b in banned):
-                return True
-    return False
+    return _code_names(func, banned, lambda module, name: name in ("C", *_PRIVATE_62)
+                       and module.split(".")[0] == "so3lib")
 
 
 @contextlib.contextmanager

@@ -25,13 +25,12 @@ mistake, but never prints the expected value.
 """
 
 import inspect
-import sys
 
 import numpy as np
 
 from .. import so3 as _so3
 from ..so3 import angle, exp, log
-from . import Feedback, check_function, never_raises
+from . import Feedback, _calls_watched, check_function, never_raises
 
 __all__ = [
     "AXIS_TOL_43",
@@ -469,24 +468,18 @@ def _logarithms_called(func, *args):
     """Run ``func(*args)``; return its result (or the exception) and the names of the
     logarithms it called: so3lib's ``log`` and ``angle`` and the private helpers of
     ``so3lib.so3`` behind them, and anything in SciPy's ``scipy.spatial.transform`` (``Rotation``)."""
-    seen = []
+    def name_of(code):
+        if code in _LOG_CODES:
+            return _LOG_CODES[code]
+        if "scipy/spatial/transform" in code.co_filename.replace("\\", "/"):
+            return f"scipy.spatial.transform ({code.co_name})"
+        return None
 
-    def watch(frame, event, arg):
-        if event == "call":
-            code = frame.f_code
-            if code in _LOG_CODES:
-                seen.append(_LOG_CODES[code])
-            elif "scipy/spatial/transform" in code.co_filename.replace("\\", "/"):
-                seen.append(f"scipy.spatial.transform ({code.co_name})")
-
-    previous = sys.getprofile()
-    sys.setprofile(watch)
-    try:
-        out = func(*args)
-    except Exception as err:  # noqa: BLE001 (reported by the caller)
-        out = err
-    finally:
-        sys.setprofile(previous)
+    with _calls_watched(name_of) as seen:
+        try:
+            out = func(*args)
+        except Exception as err:  # noqa: BLE001 (reported by the caller)
+            out = err
     return out, seen
 
 

@@ -25,14 +25,13 @@ other name (an alias, ``getattr``) while they run the learner's function.
 """
 
 import math
-import sys
 
 import mpmath
 import numpy as np
 
 from ..series import B, exp_series
 from ..so3 import hat
-from . import Feedback, never_raises
+from . import Feedback, _calls_watched, never_raises
 from .hat_map import _NOT_ANSWERED, _call, _fail, _shape_problem
 
 __all__ = ["check_B", "check_naive_B_digits", "check_partial_sum"]
@@ -65,7 +64,7 @@ def _global_names(func):
 def _forbidden(func, reference, name, what):
     """A "Not yet" Feedback when ``func`` is, or names, the library function the exercise
     asks the learner not to use (``what``, e.g. ``"exp_series"``); else None. A call under
-    another name is caught while the checker runs the function (:class:`_Watch`)."""
+    another name is caught while the checker runs the function (:func:`_watch`)."""
     if func is reference:
         return _fail(name, f"That is so3lib's own {what}; the exercise asks you to write it.")
     if what in _global_names(func):
@@ -78,27 +77,10 @@ def _called(name, what):
                        "use: write the computation yourself.")
 
 
-class _Watch:
-    """While active, notes whether the Python function ``reference`` is entered, under
-    whatever name it was called (an alias, ``getattr``, a module attribute): a profile
-    hook (``sys.setprofile``) sees every call, and the previous hook is put back."""
-
-    def __init__(self, reference):
-        self._code = reference.__code__
-        self.seen = False
-
-    def _hook(self, frame, event, arg):
-        if event == "call" and frame.f_code is self._code:
-            self.seen = True
-
-    def __enter__(self):
-        self._previous = sys.getprofile()
-        sys.setprofile(self._hook)
-        return self
-
-    def __exit__(self, *exc):
-        sys.setprofile(self._previous)
-        return False
+def _watch(reference):
+    """While inside, a list that gets an entry each time ``reference`` is entered, under
+    whatever name the learner's code called it (an alias, ``getattr``, a module attribute)."""
+    return _calls_watched({reference.__code__: reference.__name__}.get)
 
 
 # ---------------------------------------------------------------- exercise 2.1
@@ -152,9 +134,9 @@ def check_partial_sum(func):
             return fb
     for omega, tau, terms in _SUM_INPUTS:
         shown = f"partial_sum({np.array2string(omega, separator=', ')}, {tau:g}, {terms})"
-        with _Watch(exp_series) as watch:
+        with _watch(exp_series) as entered:
             got, fb = _call(func, name, (omega, tau, terms), shown, _SUM_HINT)
-        if watch.seen:
+        if entered:
             return _called(name, "exp_series")
         if fb is not None:
             return fb
@@ -340,9 +322,9 @@ def check_B(func):
     for x in _B_INPUTS:
         shown = f"B_stable({x:g})"
         hint = _TINY_HINT if 0 < abs(x) < 1e-150 else _B_HINT
-        with _Watch(B) as watch:
+        with _watch(B) as entered:
             got, fb = _call(func, name, (x,), shown, hint)
-        if watch.seen:
+        if entered:
             return _called(name, "so3lib.B")
         if fb is not None:
             return fb

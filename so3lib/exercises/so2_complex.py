@@ -20,13 +20,11 @@ give ``R``'s first column; ``R_end`` solves ``dR/dt = R omega(t) J``; each row i
 expected value.
 """
 
-import contextlib
-import sys
 
 import numpy as np
 
 from .. import so2
-from . import Feedback, check_function, never_raises
+from . import Feedback, _calls_watched, check_function, never_raises
 
 __all__ = [
     "ACCEL",
@@ -106,26 +104,6 @@ def _so2_log_hint(func):
             "Which NumPy function turns a (sine, cosine) pair into an angle in (-pi, pi]?")
 
 
-@contextlib.contextmanager
-def _watch_so2_log(calls):
-    """While inside, every call of ``so2.log`` is appended to ``calls`` (and still
-    answered), however the learner's code reached it: ``so2.log``, a name imported with
-    ``from so3lib.so2 import log``, or ``getattr``. It watches the function's code object
-    run (``sys.setprofile``), so no name can hide the call."""
-    code = so2.log.__code__
-
-    def watch(frame, event, arg):
-        if event == "call" and frame.f_code is code:
-            calls.append("so2.log")
-
-    previous = sys.getprofile()
-    sys.setprofile(watch)
-    try:
-        yield calls
-    finally:
-        sys.setprofile(previous)
-
-
 @never_raises("so2_log")
 def check_so2_log(func):
     r"""Exercise 3.1: ``func(R)`` must return the signed angle :math:`\alpha \in (-\pi, \pi]` of a
@@ -149,9 +127,9 @@ def check_so2_log(func):
     for t in (*_LOG_ANGLES, _HALF_TURN):
         R = -np.eye(2) if t == _HALF_TURN else _angle_matrix(t)
         label = _HALF_TURN if t == _HALF_TURN else f"so2.exp({t:g})"
-        calls = []
         try:
-            with _watch_so2_log(calls):
+            # every call of so2.log, however the learner's code reached it
+            with _calls_watched({so2.log.__code__: "so2.log"}.get) as calls:
                 got = func(R.copy())
         except NotImplementedError:
             return Feedback(False, f"Not yet: {name}. Not written yet: the function still "

@@ -211,23 +211,36 @@ def time_slider(fig, frames, labels, prefix, duration=80):
     return fig
 
 
+#: Coordinates in a 3-D figure are kept to this many decimals: far finer than a pixel in
+#: the course's scenes (a few units across), and coarse enough that the last bit of a
+#: result, which moves with the processor's BLAS and SIMD code, never shows (1e-17 and
+#: -2e-17 are both 0).
+DECIMALS = 6
+
+
+def _round(values):
+    """Floats rounded to ``DECIMALS`` places, -0.0 made 0.0, NaN and inf kept."""
+    arr = np.round(np.asarray(values, dtype=float), DECIMALS) + 0.0
+    return arr
+
+
 def _compact(obj):
-    """The figure's JSON, smaller: arrays of 8 numbers or fewer and lists of floats as plain
-    lists rounded to 7 digits, longer float arrays in single precision (7 digits too: far
-    finer than a pixel)."""
+    """The figure's JSON, smaller and the same on every machine: arrays of 8 numbers or
+    fewer and lists of floats as plain lists, longer float arrays in single precision, all
+    rounded to ``DECIMALS`` places first."""
     import base64
 
     if isinstance(obj, dict):
         if set(obj) >= {"bdata", "dtype"} and obj["dtype"] == "f8":
-            arr = np.frombuffer(base64.b64decode(obj["bdata"]), dtype="<f8")
+            arr = _round(np.frombuffer(base64.b64decode(obj["bdata"]), dtype="<f8"))
             if arr.size <= 8 and np.isfinite(arr).all() and "shape" not in obj:
-                return [float(f"{v:.7g}") for v in arr]
+                return [float(v) for v in arr]
             return {**obj, "dtype": "f4",
                     "bdata": base64.b64encode(arr.astype("<f4").tobytes()).decode()}
         return {k: _compact(v) for k, v in obj.items()}
     if isinstance(obj, list):
         if obj and all(isinstance(v, float) for v in obj):
-            return [float(f"{v:.7g}") for v in obj]
+            return [float(v) for v in _round(obj)]
         return [_compact(v) for v in obj]
     return obj
 

@@ -18,6 +18,7 @@ NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sani
 .PHONY: lint lint-lib
 .PHONY: slides-solutions handouts
 .PHONY: pdf
+.PHONY: check-test-system
 
 help:
 	@echo "make lab      open the course in JupyterLab (sets up .venv the first time)"
@@ -46,8 +47,15 @@ $(STAMP): environment.txt pyproject.toml
 lab: $(STAMP)
 	$(BIN)/jupyter lab --ServerApp.ip=127.0.0.1 $(ROOT_FLAG) $(LAB_ARGS) notebooks/00_start_here.ipynb
 
-test: $(STAMP) lint
+# First the programs outside Python the tests use (tools/check_system.py: Chromium, npm,
+# poppler-utils, fonts): each missing one is named with its Debian package; the tests that
+# need it are skipped, or under CI the run stops. Then lint and every test, with the
+# notebooks under strict nbval.
+test: check-test-system $(STAMP) lint
 	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) tests $(NOTEBOOKS)
+
+check-test-system:
+	@$(PYTHON) -m tools.check_system test
 
 # The library and its checkers, without the editions (decks, book, coursework, student
 # edition) and the browser: seconds rather than minutes.
@@ -104,8 +112,10 @@ BOOK_ARGS = $(if $(BOOK_REPOSITORY),--repository-url $(BOOK_REPOSITORY)) \
 book: $(STAMP)
 	$(BIN)/python -m tools.book $(BOOK_ARGS)
 
-# The whole course as one PDF, build/course.pdf, printed from the book by Chromium.
+# The whole course as one PDF, build/course.pdf, printed from the book by Chromium; first
+# a check that Chromium, pdftotext (poppler-utils), npm and the fonts are there.
 pdf: $(STAMP)
+	@$(PYTHON) -m tools.check_system pdf
 	$(BIN)/python -m tools.book --pdf $(BOOK_ARGS)
 
 student: $(STAMP)

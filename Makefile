@@ -13,7 +13,7 @@ export PYTHONHASHSEED := 0
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sanitize.cfg
 
-.PHONY: help lab test test-lib test-notebooks test-browser execute bench slides book student clean
+.PHONY: help lab test test-lib test-notebooks test-browser test-portable execute bench slides book student clean
 .PHONY: assignments grade
 .PHONY: lint lint-lib
 .PHONY: slides-solutions handouts
@@ -22,7 +22,8 @@ NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sani
 
 help:
 	@echo "make lab      open the course in JupyterLab (sets up .venv the first time)"
-	@echo "make test     run every test: library, notebooks (strict nbval), editions, browser"
+	@echo "make test     run every test: library, notebooks (strict nbval, then make test-portable), editions, browser"
+	@echo "make test-portable     strict nbval again with other BLAS kernels and without AVX2/AVX-512 loops"
 	@echo "make execute  re-run every notebook in place, top to bottom in a fresh kernel"
 	@echo "make bench    time so3lib's exp and log against scipy"
 	@echo "make lint     ruff on so3lib, tests, tools and the notebooks (part of make test)"
@@ -49,10 +50,11 @@ lab: $(STAMP)
 
 # First the programs outside Python the tests use (tools/check_system.py: Chromium, npm,
 # poppler-utils, fonts): each missing one is named with its Debian package; the tests that
-# need it are skipped, or under CI the run stops. Then lint and every test, with the
-# notebooks under strict nbval.
+# need it are skipped, or under CI the run stops. Then lint, every test with the notebooks
+# under strict nbval, and the notebooks again under other processors' arithmetic.
 test: check-test-system $(STAMP) lint
 	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) tests $(NOTEBOOKS)
+	@$(MAKE) --no-print-directory test-portable
 
 check-test-system:
 	@$(PYTHON) -m tools.check_system test
@@ -73,6 +75,24 @@ lint-lib: $(STAMP)
 
 test-notebooks: $(STAMP)
 	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) $(NOTEBOOKS)
+
+# Strict nbval twice more, with the arithmetic of other processors, so that a stored output
+# that holds on one machine only shows up here: OpenBLAS's kernels for Sandy Bridge (AVX,
+# no FMA), then NumPy's SIMD loops limited to its x86-64-v2 baseline (its AVX2 and AVX-512
+# dispatch groups off; `numpy.show_runtime()` lists them). The machine's own
+# OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE and NumPy settings are removed for both runs, so the
+# result does not depend on them. Both run; the target fails if either does.
+PORTABLE_ENV := env -u OPENBLAS_CORETYPE -u OPENBLAS_L2_SIZE -u NPY_DISABLE_CPU_FEATURES \
+                -u NPY_ENABLE_CPU_FEATURES
+NPY_NO_AVX2 := X86_V3 X86_V4 AVX512_ICL AVX512_SPR
+NBVAL_RUN = $(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) $(NOTEBOOKS)
+test-portable: $(STAMP)
+	@status=0; \
+	echo "== strict nbval with OpenBLAS's Sandy Bridge kernels: OPENBLAS_CORETYPE=Sandybridge"; \
+	$(PORTABLE_ENV) OPENBLAS_CORETYPE=Sandybridge $(NBVAL_RUN) || status=1; \
+	echo "== strict nbval with NumPy's AVX2 and AVX-512 loops off: NPY_DISABLE_CPU_FEATURES=\"$(NPY_NO_AVX2)\""; \
+	$(PORTABLE_ENV) NPY_DISABLE_CPU_FEATURES="$(NPY_NO_AVX2)" $(NBVAL_RUN) || status=1; \
+	exit $$status
 
 # Only the tests that drive Chromium: decks, handouts, book and JupyterLab.
 test-browser: $(STAMP)

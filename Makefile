@@ -45,8 +45,16 @@ $(STAMP): environment.txt pyproject.toml
 	$(BIN)/python -m pip install --quiet -r environment.txt
 	touch $@
 
+# JupyterLab for a learner. It serves notebooks/ and its URL (printed with the login token)
+# opens 00_start_here.ipynb. tools/lab_config/ comes first on the config path: nbgrader's
+# menus and server extensions off (`make assignments` and `make grade` run nbgrader
+# themselves), the kernel's connection encrypted, no news or update checks.
+LAB_CONFIG := $(CURDIR)/tools/lab_config
 lab: $(STAMP)
-	$(BIN)/jupyter lab --ServerApp.ip=127.0.0.1 $(ROOT_FLAG) $(LAB_ARGS) notebooks/00_start_here.ipynb
+	JUPYTER_CONFIG_PATH="$(LAB_CONFIG)$${JUPYTER_CONFIG_PATH:+:$$JUPYTER_CONFIG_PATH}" \
+	$(BIN)/jupyter lab --ServerApp.ip=127.0.0.1 --ServerApp.root_dir=notebooks \
+	    --LabApp.default_url=/lab/tree/00_start_here.ipynb \
+	    --LabApp.app_settings_dir="$(LAB_CONFIG)/settings" $(ROOT_FLAG) $(LAB_ARGS)
 
 # First the programs outside Python the tests use (tools/check_system.py: Chromium, npm,
 # poppler-utils, fonts): each missing one is named with its Debian package; the tests that

@@ -25,6 +25,7 @@ help:
 	@echo "make test     run every test: library, notebooks (strict nbval, then make test-portable), editions, browser"
 	@echo "make test-portable     strict nbval again with other BLAS kernels and without AVX2/AVX-512 loops"
 	@echo "make execute  re-run every notebook in place, top to bottom in a fresh kernel"
+	@echo "              (one: make execute NB=notebooks/01_hat_map_and_lemma.ipynb)"
 	@echo "make bench    time so3lib's exp and log against scipy"
 	@echo "make lint     ruff on so3lib, tests, tools and the notebooks (part of make test)"
 	@echo "make slides   a reveal.js deck per notebook in build/slides/ (presents offline)"
@@ -107,13 +108,16 @@ test-browser: $(STAMP)
 	$(BIN)/python -m pytest -n 2 --dist loadfile tests/test_browser.py tests/test_slides.py tests/test_book.py
 
 # Timing metadata is dropped and consecutive prints merged into one output, so that
-# re-executing an unchanged notebook leaves its file unchanged.
+# re-executing an unchanged notebook leaves its file unchanged. NB=PATH runs that notebook
+# only (or several: NB="PATH PATH"). The kernel's connection is encrypted (CurveZMQ), as
+# in `make lab`, so it does not warn about plain TCP.
 execute: $(STAMP)
 	$(BIN)/jupyter nbconvert --to notebook --execute --inplace \
 	    --ExecutePreprocessor.timeout=300 --ExecutePreprocessor.kernel_name=python3 \
+	    --KernelManager.transport_encryption=auto \
 	    --ExecutePreprocessor.record_timing=False \
 	    --NotebookExporter.preprocessors=nbconvert.preprocessors.CoalesceStreamsPreprocessor \
-	    $(NOTEBOOKS)
+	    $(or $(NB),$(NOTEBOOKS))
 
 bench: $(STAMP)
 	$(BIN)/python tests/benchmark.py

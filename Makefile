@@ -36,6 +36,7 @@ help:
 	@echo "make student  the notebooks without worked solutions, in build/student/"
 	@echo "make assignments  nbgrader coursework from the notebooks, in build/coursework/"
 	@echo "make grade SUBMITTED=DIR  autograde DIR/STUDENT/ASSIGNMENT/*.ipynb: build/grades.csv, feedback"
+	@echo "              (DIR not in the course folder: build/coursework/DIR, e.g. SUBMITTED=submitted)"
 	@echo "make clean    remove .venv, build/ and caches"
 
 $(STAMP): environment.txt pyproject.toml

@@ -1,7 +1,9 @@
 """`make grade SUBMITTED=DIR`: grade the students' notebooks with nbgrader.
 
 DIR holds nbgrader's layout, ``DIR/STUDENT_ID/ASSIGNMENT/NOTEBOOK.ipynb``, for the
-assignments that `make assignments` wrote into build/coursework/. For every student and
+assignments that `make assignments` wrote into build/coursework/. A relative DIR that is
+not a folder here is looked up in build/coursework/: ``submitted`` is where ``nbgrader
+collect`` puts the students' work, build/coursework/submitted/. For every student and
 assignment on its own (so that one broken notebook never stops the others):
 
 1. a notebook that is not a readable notebook (not JSON, not nbformat) scores 0, and the
@@ -38,6 +40,25 @@ from tools.assignments import COURSE, DEFAULT_TIMEOUT, nbgrader
 from tools.common import BUILD
 
 NOT_RUN = "not graded"
+
+
+def submitted_folder(submitted, course=COURSE):
+    """The folder to grade: SUBMITTED itself, or, when that is no folder and the path is
+    relative, the course's folder of that name (build/coursework/SUBMITTED)."""
+    submitted, course = Path(submitted), Path(course)
+    if submitted.is_dir():
+        return submitted
+    if not submitted.is_absolute() and (course / submitted).is_dir():
+        return course / submitted
+    looked = f"{submitted}" if submitted.is_absolute() else f"{submitted} or {_shown(course / submitted)}"
+    raise SystemExit(f"no folder {looked}: it should hold STUDENT_ID/ASSIGNMENT/NOTEBOOK.ipynb "
+                     "(`nbgrader collect` puts them in build/coursework/submitted/)")
+
+
+def _shown(path):
+    """PATH relative to the current folder when it lies under it."""
+    path = Path(path).resolve()
+    return path.relative_to(Path.cwd()) if path.is_relative_to(Path.cwd()) else path
 
 
 def _gradebook(course):
@@ -141,8 +162,7 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
     course = Path(course).resolve()
     if not (course / "gradebook.db").exists() or not (course / "source").is_dir():
         raise SystemExit(f"no coursework in {course}: run `make assignments` first")
-    if not Path(submitted).is_dir():
-        raise SystemExit(f"no folder {submitted}: it should hold STUDENT_ID/ASSIGNMENT/NOTEBOOK.ipynb")
+    submitted = submitted_folder(submitted, course)
     notebook_timeout = notebook_timeout or max(900, 20 * timeout)
     with _gradebook(course) as gb:
         known = {a.name for a in gb.assignments}
@@ -319,7 +339,9 @@ def _reason_from_notebook(course, key, notebook, grade_id, timeout):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("submitted", type=Path, help="DIR/STUDENT_ID/ASSIGNMENT/NOTEBOOK.ipynb")
+    parser.add_argument("submitted", type=Path,
+                        help="DIR/STUDENT_ID/ASSIGNMENT/NOTEBOOK.ipynb (a relative DIR that is not "
+                             "here: in the course folder, e.g. submitted)")
     parser.add_argument("--course", type=Path, default=COURSE)
     parser.add_argument("--timeout", type=int, default=DEFAULT_TIMEOUT,
                         help=f"seconds one cell may run (default {DEFAULT_TIMEOUT})")

@@ -71,9 +71,13 @@ check-test-system:
 
 # The library and its checkers, without the editions (decks, book, coursework, student
 # edition) and the browser: seconds rather than minutes.
+# Nor the two tests that set up what a newcomer gets, each most of a minute: a Binder
+# image's environment in a fresh venv, and `make lab` itself.
 EDITION_TESTS = test_browser test_interactive test_slides test_book test_assignments test_student_edition
+SLOW_TESTS = tests/test_binder.py::test_binder_image_runs_a_notebook_from_another_folder \
+             tests/test_newcomer.py::test_make_lab_is_a_learners_lab
 test-lib: $(STAMP) lint-lib
-	$(BIN)/python -m pytest -n 2 tests $(EDITION_TESTS:%=--ignore=tests/%.py)
+	$(BIN)/python -m pytest -n 2 tests $(EDITION_TESTS:%=--ignore=tests/%.py) $(SLOW_TESTS:%=--deselect=%)
 
 # ruff with the rules in pyproject.toml (defects, not style): the notebooks too for
 # `make test`, the library's own code for `make test-lib`.

@@ -23,11 +23,15 @@ NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sani
 help:
 	@echo "make lab      open the course in JupyterLab (sets up .venv the first time)"
 	@echo "make test     run every test: library, notebooks (strict nbval, then make test-portable), editions, browser"
+	@echo "make test-lib          only the library and checker tests (fast)"
+	@echo "make test-notebooks    only the notebooks, under strict nbval"
 	@echo "make test-portable     strict nbval again with other BLAS kernels and without AVX2/AVX-512 loops"
+	@echo "make test-browser      only the tests in Chromium: decks, book, JupyterLab"
 	@echo "make execute  re-run every notebook in place, top to bottom in a fresh kernel"
 	@echo "              (one: make execute NB=notebooks/01_hat_map_and_lemma.ipynb)"
 	@echo "make bench    time so3lib's exp and log against scipy"
 	@echo "make lint     ruff on so3lib, tests, tools and the notebooks (part of make test)"
+	@echo "make lint-lib ruff on so3lib, tests and tools (part of make test-lib)"
 	@echo "make slides   a reveal.js deck per notebook in build/slides/ (presents offline)"
 	@echo "make handouts a PDF of each deck, one page per slide, in build/handouts/"
 	@echo "make slides-solutions  the decks with the worked solutions, build/slides-solutions/"
@@ -39,8 +43,10 @@ help:
 	@echo "              (DIR not in the course folder: build/coursework/DIR, e.g. SUBMITTED=submitted)"
 	@echo "make clean    remove .venv, build/ and caches"
 
+# Python 3.11.5 or newer: environment.txt pins soupsieve 4.1.2, which requires it (Debian
+# 12's own python3 is 3.11.2).
 $(STAMP): environment.txt pyproject.toml
-	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "Python 3.11 or newer is needed; found " + sys.version.split()[0] + ". Set PYTHON=/path/to/python3.11.")'
+	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11, 5) else "Python 3.11.5 or newer is needed; found " + sys.version.split()[0] + ". Set PYTHON=/path/to/python3.11.")'
 	rm -rf $(VENV)
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip

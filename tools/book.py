@@ -35,7 +35,7 @@ import yaml
 from bs4 import BeautifulSoup
 
 from tools import vendor
-from tools.common import BUILD, NOTEBOOKS, course_notebooks, label, read, write_atomic
+from tools.common import BUILD, NOTEBOOKS, Stamps, course_notebooks, label, read, write_atomic
 
 BOOK_TITLE = "The exponential and logarithm of SO(3)"
 SOURCE = BUILD / "book-src"
@@ -364,6 +364,44 @@ def prepare(src=SOURCE, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB
 # Sphinx, then a pass over the HTML
 
 
+def inputs_key(src=SOURCE):
+    """A digest of everything a build of SRC reads: each file under SRC (the notebooks'
+    copies, the landing page, the configuration, the vendored scripts and pictures), the
+    notebooks themselves (the HTML pass puts them behind the download button), this
+    script (its Sphinx settings and its HTML pass), and the versions of the packages that
+    render the book. The same key, the same book."""
+    import hashlib
+    from importlib.metadata import PackageNotFoundError, version
+    src = Path(src)
+    digest = hashlib.sha256(Path(__file__).read_bytes())
+    for name in ("jupyter-book", "sphinx", "myst-nb", "myst-parser", "sphinx-book-theme",
+                 "pydata-sphinx-theme", "beautifulsoup4"):
+        try:
+            digest.update(f"\0{name} {version(name)}".encode())
+        except PackageNotFoundError:
+            digest.update(f"\0{name} absent".encode())
+    for f in sorted(f for f in src.rglob("*") if f.is_file()):
+        digest.update(f"\0{f.relative_to(src).as_posix()}\0".encode())
+        digest.update(f.read_bytes())
+    for nb in course_notebooks():
+        digest.update(f"\0notebooks/{nb.name}\0".encode())
+        digest.update(nb.read_bytes())
+    return digest.hexdigest()
+
+
+def _built(out, builder, key):
+    """True when OUT holds the BUILDER build, HTML pass included, of the inputs KEY (see
+    inputs_key): Sphinx and the pass can be skipped. A build that stopped half way has
+    recorded nothing, so it runs again."""
+    return Stamps(out).fresh("index.html", f"{builder} {key}")
+
+
+def _record_built(out, builder, key):
+    stamps = Stamps(out)
+    stamps.record("index.html", f"{builder} {key}")
+    stamps.save()
+
+
 def sphinx(src, out, builder):
     """Run Jupyter Book's Sphinx build; raises SystemExit on failure."""
     from jupyter_book.sphinx import build_sphinx
@@ -417,9 +455,25 @@ _SPLIT_TAG = re.compile(r"\\begin\{split\}((?:(?!\\end\{split\}).)*?)\s*\\tag\{(
 
 
 def postprocess(out):
-    """The HTML pass: solution blocks; the download button gives the notebook itself."""
+    """The HTML pass: solution blocks; the download button gives the notebook itself. A
+    page this pass (the same script) already went over, and that Sphinx has not written
+    since, is left as it is: OUT/.postprocessed.json holds each page's size and time."""
+    import hashlib
+    import json
     out = Path(out)
+    plotly_js = out / "_static" / "vendor" / "plotly.min.js"
+    script = hashlib.sha256(Path(__file__).read_bytes()
+                            + str(plotly_js.exists()).encode()).hexdigest()
+    record = out / ".postprocessed.json"
+    try:
+        done = json.loads(record.read_text())
+    except (OSError, ValueError):
+        done = {}
+    if done.get("script") != script:
+        done = {"script": script}
     for page in out.glob("*.html"):
+        if done.get(page.name) == [page.stat().st_size, page.stat().st_mtime_ns]:
+            continue
         text = page.read_text(encoding="utf-8")
         fixed = _SPLIT_TAG.sub(r"\\begin{split}\1\3\\end{split}\\tag{\2}", text)
         soup = BeautifulSoup(fixed, "html.parser")
@@ -439,7 +493,6 @@ def postprocess(out):
                 changed = True
         # A page with a figure the learner turns loads the one copy of plotly.js (4.8 MB):
         # the figure's own script draws it once the page has loaded (so3lib.plot.show_3d).
-        plotly_js = Path(out) / "_static" / "vendor" / "plotly.min.js"
         if (soup.select_one("div.plotly-graph-div") and plotly_js.exists()
                 and not soup.select_one("script[data-course-plotly]")):
             soup.head.append(soup.new_tag("script", attrs={
@@ -461,6 +514,8 @@ def postprocess(out):
             changed = True
         if changed:
             write_atomic(page, str(soup))
+        done[page.name] = [page.stat().st_size, page.stat().st_mtime_ns]
+    write_atomic(record, json.dumps(done, indent=1, sort_keys=True))
     sources = out / "_sources"
     for p in course_notebooks():
         if (sources / p.name).exists():
@@ -468,11 +523,17 @@ def postprocess(out):
 
 
 def build(out=OUT, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
-    """Build the web site into OUT; returns its pages, index.html first, then one per notebook."""
+    """Build the web site into OUT; returns its pages, index.html first, then one per
+    notebook. Sphinx and the HTML pass run only when an input changed since the last build
+    into OUT (inputs_key)."""
     paths = prepare(SOURCE, repository_url, jupyterhub_url)
-    sphinx(SOURCE, out, "html")
-    postprocess(out)
-    return [Path(out) / "index.html"] + [Path(out) / f"{p.stem}.html" for p in paths]
+    pages = [Path(out) / "index.html"] + [Path(out) / f"{p.stem}.html" for p in paths]
+    key = inputs_key(SOURCE)
+    if not (_built(out, "html", key) and all(p.is_file() for p in pages)):
+        sphinx(SOURCE, out, "html")
+        postprocess(out)
+        _record_built(out, "html", key)
+    return pages
 
 
 # ---------------------------------------------------------------------------------------
@@ -630,10 +691,15 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
 
 
 def build_pdf(pdf=PDF, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL, browser=None):
-    """The whole course as one PDF: the book built as one page, printed by Chromium."""
+    """The whole course as one PDF: the book built as one page, printed by Chromium. The
+    one-page book is rebuilt only when an input changed (Sphinx's singlehtml builder
+    rewrites the whole page every time), and printed only when the page changed."""
     prepare(SOURCE, repository_url, jupyterhub_url)
-    sphinx(SOURCE, PRINT_OUT, "singlehtml")
-    postprocess(PRINT_OUT)
+    key = inputs_key(SOURCE)
+    if not _built(PRINT_OUT, "singlehtml", key):
+        sphinx(SOURCE, PRINT_OUT, "singlehtml")
+        postprocess(PRINT_OUT)
+        _record_built(PRINT_OUT, "singlehtml", key)
     return print_pdf(PRINT_OUT, pdf, browser)
 
 

@@ -133,12 +133,13 @@ def test_solutions_are_collapsed_and_figure_code_folded(pages, soups):
     for nb_path in course_notebooks():
         soup = soups[f"{nb_path.stem}.html"]
         nb = _built_from(nb_path)
+        blocks = [_words(d) for d in soup.select("details.course-solution")]
         for i, cell in enumerate(nb.cells):
             if book.is_solution(cell) and not book.is_hidden_test(cell):
                 probe = _fingerprint(cell.source, 6)
                 if len(probe.split()) < 4:
                     continue
-                inside = any(probe in _words(d) for d in soup.select("details.course-solution"))
+                inside = any(probe in words for words in blocks)
                 if not inside:
                     problems.append(f"{nb_path.name} cell {i}: solution not in a 'Show solution' block")
         for d in soup.select("details.course-solution"):

@@ -1,14 +1,15 @@
 """The course book (tools/book.py, Jupyter Book 1) and its PDF.
 
-The book is built once per session into build/book/ (Sphinx rebuilds only changed pages);
-the PDF once into build/course.pdf (reprinted only when the book changed). The build's
-own checks read the HTML: a page per notebook, no speaker notes or grading asserts,
-solutions and figure code collapsed, alt text carried over, launch buttons and download,
-every local link and every loaded file present. Then Chromium, with every request outside
+The book is built once per session into build/book/ (Sphinx rebuilds only changed pages,
+and does not run when no input changed); the PDF once into build/course.pdf (reprinted
+only when the book changed). The build's own checks read the HTML: a page per notebook,
+no speaker notes or grading asserts, solutions and figure code collapsed, alt text carried
+over, launch buttons and download, every local link and every loaded file present. Then Chromium, with every request outside
 file:// blocked, opens every page once at a laptop size and once at a phone size: maths
 typeset, code boxes that scroll rather than cut, no serious or critical axe-core finding
-(light and dark), and on a phone the text first; the search finds "Rodrigues"; a plain
-static server serves the book without a request elsewhere.
+(light and dark), and on a phone the text first; on the pages of notebooks 01 to 05 each
+figure a learner turns turns when dragged; the search finds "Rodrigues"; a plain static
+server serves the book without a request elsewhere.
 """
 
 import functools
@@ -23,7 +24,16 @@ from urllib.parse import unquote, urlsplit
 import pytest
 from bs4 import BeautifulSoup
 
-from browser_support import MATHJAX_ERRORS, ROOT, Offline, screenshot
+from browser_support import (
+    MATHJAX_ERRORS,
+    ROOT,
+    SCREENSHOTS,
+    Offline,
+    drag_turns,
+    eye_moved,
+    screenshot,
+    screenshot_to,
+)
 from tools import book, vendor
 from tools.common import course_notebooks, read
 
@@ -278,11 +288,30 @@ def _open(page, path):
     page.evaluate("MathJax.startup.promise")
 
 
+# the pages of notebooks 01 to 05 each have a figure the learner turns (so3lib.plot.show_3d)
+TURNABLE = [p for p in course_notebooks() if p.name[:2] in {"01", "02", "03", "04", "05"}]
+
+
+def _turn_figures(page, path):
+    """Drag each figure a learner turns on PAGE: {figure id: how far the camera's eye
+    moved}; a screenshot of each to build/screenshots/interactive/book-NAME/."""
+    page.bring_to_front()
+    turned = {}
+    for i in page.evaluate("() => [...document.querySelectorAll('.plotly-graph-div')].map(g => g.id)"):
+        before, after = drag_turns(page, f"#{i}")
+        turned[i] = eye_moved(before, after)
+        screenshot_to(page, SCREENSHOTS / "interactive" / f"book-{path.stem}" / f"{i}.png")
+    return turned
+
+
 @pytest.fixture(scope="session")
 def visits(browser, pages):
     """Every page opened once at a laptop size and once at a phone size (light, then dark
-    for axe), with every request outside file:// blocked: what each check needs."""
+    for axe), with every request outside file:// blocked: what each check needs. On the
+    laptop in light, once a page of notebooks 01 to 05 is measured, each figure a learner
+    turns on it is dragged (test_figures_turn_with_the_mouse)."""
     axe = _axe_path()
+    turnable = {f"{p.stem}.html" for p in TURNABLE}
     found = {}
     for size_name, size in (("laptop", LAPTOP), ("phone", PHONE)):
         for scheme in ("light", "dark"):
@@ -304,6 +333,9 @@ def visits(browser, pages):
                 }
                 if path in (pages[0], pages[2]) and scheme == "light":
                     screenshot(page, f"book_{path.stem}_{size_name}")
+                if key == "laptop-light" and path.name in turnable:
+                    seen[key]["turned"] = _turn_figures(page, path)
+                    seen[key]["plotly"] = page.evaluate("() => !!window.Plotly")
             found.setdefault("_problems", []).append(offline.problems())
             offline.close()
     return found
@@ -339,6 +371,19 @@ def test_on_a_phone_the_text_comes_first(visits, pages):
         assert not layout["navShown"], f"{path.name}: the contents cover the text on a phone"
         assert layout["headingTop"] is not None and layout["headingTop"] < PHONE["height"] / 3, \
             f"{path.name}: the title starts {layout['headingTop']} px down"
+
+
+@pytest.mark.browser
+@pytest.mark.parametrize("path", TURNABLE, ids=lambda p: p.stem)
+def test_figures_turn_with_the_mouse(visits, path):
+    """Each figure a learner turns draws on the page (with the book's one plotly.js) and
+    turns when dragged; screenshots to build/screenshots/interactive/book-NAME/."""
+    seen = visits[f"{path.stem}.html"]["laptop-light"]
+    assert seen["turned"], f"{path.stem}.html: no plotly figure on the page"
+    for i, moved in seen["turned"].items():
+        assert moved > 0.05, f"{path.stem}.html #{i}: dragging did not turn it"
+    assert seen["plotly"], f"{path.stem}.html: plotly.js is not loaded"
+    assert not any(visits["_problems"]), "\n".join(visits["_problems"])
 
 
 @pytest.mark.browser

@@ -6,15 +6,16 @@ shown with so3lib.plot.show_3d.
   id that draws with the page's own plotly.js, and the alt text; no plotly.js and no CDN
   inside a notebook, and every notebook file under 1.5 MB.
 - In Chromium with every request outside file:// blocked: the fixture notebook
-  (tests/fixtures/10_fixture_interactive.ipynb) as a deck and as a book page, and the
-  course's notebooks 01 to 05 in their decks and book pages: the figure draws (WebGL), fits
-  its slide, and a mouse drag turns it (plotly's _fullLayout.scene.camera changes).
+  (tests/fixtures/10_fixture_interactive.ipynb) as a deck and as a book page: the figure
+  draws (WebGL), fits its slide, and a mouse drag turns it (plotly's
+  _fullLayout.scene.camera changes). The course's notebooks 01 to 05 get the same checks
+  in their decks (tests/test_slides.py) and book pages (tests/test_book.py), where those
+  are open already.
 - Each interactive figure's cell carries the same alt text in metadata.mystnb.image.alt as
   its figure's aria-label, and starts or sits on a slide of the deck.
 """
 
 import html as htmllib
-import json
 import re
 import shutil
 from unittest import mock
@@ -23,7 +24,15 @@ import nbformat
 import pytest
 import yaml
 
-from browser_support import ROOT, SCREENSHOTS, Offline
+from browser_support import (
+    ROOT,
+    SCREENSHOTS,
+    Offline,
+    drag_turns,
+    eye_moved,
+    screenshot_to,
+    turn_deck_figures,
+)
 from tools import book, slides, vendor
 from tools.common import course_notebooks, read
 
@@ -154,73 +163,6 @@ def test_div_ids_are_fixed_and_unique(path):
 SHOTS = SCREENSHOTS / "interactive"
 
 
-def screenshot(page, path):
-    path.parent.mkdir(parents=True, exist_ok=True)
-    page.screenshot(path=str(path))
-
-PLOT_READY = """(sel) => { const g = document.querySelector(sel);
-  return !!(g && g._fullLayout && g._fullLayout.scene && g._fullLayout.scene._scene
-            && g.querySelector('canvas')); }"""
-CAMERA = "(sel) => JSON.stringify(document.querySelector(sel)._fullLayout.scene.camera)"
-
-
-def drag_turns(page, selector):
-    """Drag the mouse across the 3-D scene of the plotly figure SELECTOR; returns the camera
-    before and after (plotly's _fullLayout.scene.camera)."""
-    page.wait_for_function(PLOT_READY, arg=selector)
-    page.wait_for_timeout(500)  # the scene's first frames, and any resize
-    page.locator(selector).scroll_into_view_if_needed()
-    before = page.evaluate(CAMERA, selector)
-    box = page.evaluate("""(sel) => { const r = document.querySelector(sel).querySelector('canvas')
-      .getBoundingClientRect(); return [r.left, r.top, r.width, r.height]; }""", selector)
-    x, y, w, h = box
-    after = before
-    for fx, fy in ((0.3, 0.7), (0.5, 0.5), (0.7, 0.3)):  # away from the traces, then others
-        x0, y0 = x + fx * w, y + fy * h
-        page.mouse.move(x0, y0)
-        page.mouse.down()
-        for k in range(1, 13):
-            page.mouse.move(x0 + 12 * k, y0 + 3 * k, steps=3)
-            page.wait_for_timeout(30)
-        page.mouse.up()
-        page.wait_for_timeout(300)
-        after = page.evaluate(CAMERA, selector)
-        if after != before:
-            break
-    return json.loads(before), json.loads(after)
-
-
-def _eye_moved(before, after):
-    b, a = before["eye"], after["eye"]
-    return max(abs(a[k] - b[k]) for k in "xyz")
-
-
-def _check_deck(browser, deck, shots):
-    d = slides.OfflineDeck(browser, deck)
-    try:
-        page = d.ready()
-        plots = page.evaluate("""() => [...document.querySelectorAll('.plotly-graph-div')].map(g =>
-          { const s = g.closest('.reveal .slides section:not(.stack)'); const i = Reveal.getIndices(s);
-            return {id: g.id, h: i.h, v: i.v || 0}; })""")
-        assert plots, f"{deck.name}: no plotly figure in the deck"
-        for p in plots:
-            slides.goto(page, p["h"], p["v"])
-            sel = f'#{p["id"]}'
-            before, after = drag_turns(page, sel)
-            assert _eye_moved(before, after) > 0.05, f"{deck.name} {sel}: dragging did not turn it"
-            fit = page.evaluate("""(sel) => { const g = document.querySelector(sel).getBoundingClientRect();
-              const s = document.querySelector('.reveal .slides').getBoundingClientRect();
-              return {w: g.width, h: g.height, inside: g.bottom <= s.bottom + 1 && g.right <= s.right + 1}; }""",
-                                sel)
-            assert fit["inside"], f"{deck.name} {sel}: the figure runs outside its slide: {fit}"
-            assert fit["w"] >= 0.5 * slides.WIDTH or fit["h"] >= 0.5 * slides.HEIGHT, fit
-            screenshot(page, shots / f"{p['id']}.png")
-        assert not d.blocked, d.blocked
-        assert not d.errors, d.errors
-    finally:
-        d.close()
-
-
 @pytest.fixture(scope="module")
 def fixture_deck(tmp_path_factory):
     try:
@@ -230,37 +172,37 @@ def fixture_deck(tmp_path_factory):
     return deck
 
 
-@pytest.mark.browser
-def test_fixture_deck_loads_plotly_once_and_turns(browser, fixture_deck):
-    page = fixture_deck.read_text()
-    assert page.count(f'src="{slides.VENDOR_DIR}/{vendor.PLOTLY_JS}"') == 1
-    assert (fixture_deck.parent / slides.VENDOR_DIR / vendor.PLOTLY_JS).is_file()
-    _check_deck(browser, fixture_deck, SHOTS / "deck")
-
-
-@pytest.mark.browser
-def test_fixture_deck_report_counts_one_figure_with_alt(browser, fixture_deck):
+@pytest.fixture(scope="module")
+def fixture_deck_open(browser, fixture_deck):
+    """The fixture deck open offline (one load for the tests below), and its measure
+    (tools.slides.measure_open) taken as soon as it is ready, before a figure is turned."""
     d = slides.OfflineDeck(browser, fixture_deck)
     try:
         d.ready()
-        m = slides.measure_open(d)
+        yield d, slides.measure_open(d)
     finally:
         d.close()
+
+
+@pytest.mark.browser
+def test_fixture_deck_loads_plotly_once_and_turns(fixture_deck, fixture_deck_open):
+    page = fixture_deck.read_text()
+    assert page.count(f'src="{slides.VENDOR_DIR}/{vendor.PLOTLY_JS}"') == 1
+    assert (fixture_deck.parent / slides.VENDOR_DIR / vendor.PLOTLY_JS).is_file()
+    d, _ = fixture_deck_open
+    turn_deck_figures(d, fixture_deck.name, SHOTS / "deck")
+
+
+@pytest.mark.browser
+def test_fixture_deck_report_counts_one_figure_with_alt(fixture_deck_open):
+    _, m = fixture_deck_open
     first = m["slides"][0]
     assert len(first["figures"]) == 1, first["figures"]
     assert first["figures"][0]["alt"].startswith("A body frame"), first["figures"]
 
 
-@pytest.mark.browser
-@pytest.mark.parametrize("path", TURNABLE, ids=lambda p: p.stem)
-def test_course_deck_figure_turns(browser, path, tmp_path):
-    if not _plotly_cells(read(path)):
-        pytest.fail(f"{path.name} has no figure the learner turns yet")
-    try:
-        (deck,) = slides.build(slides.OUT, [path])
-    except SystemExit as e:
-        pytest.skip(str(e))
-    _check_deck(browser, deck, SHOTS / path.stem)
+# The course's decks (notebooks 01 to 05) are turned in tests/test_slides.py, in the decks
+# it opens and measures, and the book's pages in tests/test_book.py, on the pages it visits.
 
 
 # --- the book -------------------------------------------------------------------------------
@@ -274,8 +216,8 @@ def _book_page(browser, page_path, shots):
         assert ids, f"{page_path.name}: no plotly figure on the page"
         for i in ids:
             before, after = drag_turns(page, f"#{i}")
-            assert _eye_moved(before, after) > 0.05, f"{page_path.name} #{i}: dragging did not turn it"
-            screenshot(page, shots / f"{i}.png")
+            assert eye_moved(before, after) > 0.05, f"{page_path.name} #{i}: dragging did not turn it"
+            screenshot_to(page, shots / f"{i}.png")
         assert page.evaluate("() => !!window.Plotly")
         assert not off.problems(), off.problems()
     finally:
@@ -322,18 +264,6 @@ def test_fixture_book_page_turns(browser, fixture_book):
 
 
 ALT_FIXTURE_START = "A body frame (red x, green y, blue z arrows)"
-
-
-@pytest.mark.browser
-@pytest.mark.parametrize("path", TURNABLE, ids=lambda p: p.stem)
-def test_course_book_page_turns(browser, path):
-    """Reads the built book (`make book`; tests/test_book.py builds it too)."""
-    page = book.OUT / f"{path.stem}.html"
-    if not _plotly_cells(read(path)):
-        pytest.fail(f"{path.name} has no figure the learner turns yet")
-    if not page.is_file() or page.stat().st_mtime < path.stat().st_mtime:
-        pytest.skip(f"build/book/{page.name} is missing or older than the notebook: run `make book`")
-    _book_page(browser, page, SHOTS / f"book-{path.stem}")
 
 
 def test_fixture_notebook_is_executed_and_deterministic():
@@ -398,10 +328,10 @@ def test_jupyterlab_draws_and_turns_with_no_kernel(browser, jupyterlab):
         page.locator("button:has-text('No Kernel')").first.click(timeout=90_000)
         page.wait_for_selector(".js-plotly-plot", timeout=60_000)
         before, after = drag_turns(page, ".js-plotly-plot")
-        assert _eye_moved(before, after) > 0.05, "dragging did not turn the figure in JupyterLab"
+        assert eye_moved(before, after) > 0.05, "dragging did not turn the figure in JupyterLab"
         frames = page.evaluate("() => document.querySelector('.js-plotly-plot')._transitionData._frames.length")
         assert frames == 21
-        screenshot(page, SHOTS / "jupyterlab" / "fixture.png")
+        screenshot_to(page, SHOTS / "jupyterlab" / "fixture.png")
         assert not off.blocked, off.blocked
     finally:
         off.context.close()

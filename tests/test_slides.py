@@ -4,8 +4,9 @@ network blocked.
 Each deck is built once per session (tools/slides.py, into build/slides/) and measured once,
 every slide at 1280x720 (and where it lies at 1024x768 and 1920x1080); the tests below read
 that measure against the shape of a lecture deck (tools.slides: SLIDES_MIN.., README "Adding
-a notebook"). The decks are the course's notebooks (tools.common.course_notebooks), so a new
-notebook is covered without touching this file. `python -m tools.slides --report NOTEBOOK`
+a notebook"). In the decks of notebooks 01 to 05 each figure a learner turns is dragged and
+must turn (issue 13). The decks are the course's notebooks (tools.common.course_notebooks),
+so a new notebook is covered without touching this file. `python -m tools.slides --report NOTEBOOK`
 prints the same measure slide by slide, with screenshots.
 """
 
@@ -20,7 +21,7 @@ import nbformat
 import pytest
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook, new_output
 
-from browser_support import screenshot
+from browser_support import SCREENSHOTS, screenshot, turn_deck_figures
 from tools import slides
 from tools.common import course_notebooks, read
 
@@ -171,6 +172,19 @@ def test_deck_presents_offline(opened, measured, name):
     page.keyboard.press("ArrowLeft")
     page.wait_for_function(f"JSON.stringify(Reveal.getIndices()) === {before!r}")
     screenshot(page, f"slides_{name}")
+
+
+# notebooks 01 to 05 each have a figure the learner turns (tests/test_interactive.py)
+TURNABLE = [n for n in NAMES if n[:2] in {"01", "02", "03", "04", "05"}]
+
+
+@pytest.mark.parametrize("name", TURNABLE)
+def test_figures_turn_with_the_mouse(opened, measured, name):
+    """Each figure a learner turns (so3lib.plot.show_3d) draws in the deck, fits its slide
+    and turns when dragged; screenshots to build/screenshots/interactive/NAME/. The deck is
+    measured first, so that the measure sees it as it opened."""
+    measured(name)
+    turn_deck_figures(opened[name], name, SCREENSHOTS / "interactive" / name)
 
 
 def _kept_notes_cells(path):

@@ -6,6 +6,7 @@ exercise in some edition. These tests read the committed notebooks only (fast, n
 kernel) and cover any notebook added later.
 """
 
+import ast
 import functools
 import importlib
 import re
@@ -144,3 +145,110 @@ def test_a_picture_every_dozen_cells(nb):
                 runs.append(f"cells {start}-{i - 1}")
             start = i + 1
     assert not runs, f"runs of more than 12 cells without a picture: {', '.join(runs)}"
+
+
+# --- What a learner sees: a textbook, not a test log (README, "One source, three editions")
+
+CHECK_LINE = re.compile(r"(:\s*ok|\bFAILS)\s*$")
+CHECKS_SHOWN_MAX = 8
+FIGURE_PX_MIN = 700
+
+
+def _collapsed(cell):
+    return (_kind(cell) in HIDDEN or "verify" in _tags(cell)
+            or cell.metadata.get("jupyter", {}).get("outputs_hidden"))
+
+
+def _printed_lines(cell):
+    for o in cell.get("outputs", []):
+        text = o.get("text") if o.get("output_type") == "stream" else o.get("data", {}).get("text/plain")
+        if text and o.get("output_type") != "error":
+            yield from (text if isinstance(text, str) else "".join(text)).splitlines()
+
+
+def shown_check_lines(nb):
+    """The printed check lines ('...: within 8 eps: ok', '...: FAILS') of the cells a learner
+    sees: those not collapsed in JupyterLab (speaker notes, solutions, hidden tests and
+    `verify` cells are) and so not in the book either."""
+    return [(i, line) for i, c in enumerate(nb.cells)
+            if c.cell_type == "code" and not _collapsed(c)
+            for line in _printed_lines(c) if CHECK_LINE.search(line)]
+
+
+def test_at_most_eight_check_lines_in_sight(nb):
+    shown = shown_check_lines(nb)
+    assert len(shown) <= CHECKS_SHOWN_MAX, (
+        f"{len(shown)} check lines in sight (at most {CHECKS_SHOWN_MAX}): keep those whose number "
+        "is the lesson, move the others into a collapsed `verify` cell or tests/, drop those "
+        "that cannot fail; " + "; ".join(f"cell {i}: {line.strip()[:60]}" for i, line in shown))
+
+
+def test_verify_cells_are_collapsed_and_out_of_the_decks(nb):
+    wrong = [i for i, c in enumerate(nb.cells) if "verify" in _tags(c) and (
+        c.cell_type != "code" or _slide_type(c) not in ("skip", "-")
+        or not c.metadata.get("jupyter", {}).get("source_hidden")
+        or not c.metadata.get("jupyter", {}).get("outputs_hidden"))]
+    assert not wrong, (f"verify cells {wrong}: code cells with slide_type skip and "
+                       "jupyter.source_hidden and jupyter.outputs_hidden true")
+
+
+def _defined(tree):
+    names = set()
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, (ast.Import, ast.ImportFrom)):
+            names |= {(a.asname or a.name).split(".")[0] for a in node.names}
+        else:
+            for sub in ast.walk(node):
+                if isinstance(sub, ast.Name) and isinstance(sub.ctx, ast.Store):
+                    names.add(sub.id)
+    return names
+
+
+def _parse(cell):
+    source = "\n".join(line for line in cell.source.splitlines()
+                       if not line.lstrip().startswith(("%", "!")))
+    try:
+        return ast.parse(source)
+    except SyntaxError:
+        return ast.parse("")
+
+
+def test_nothing_depends_on_a_verify_cell(nb):
+    """The book, the decks and the coursework leave `verify` cells out, so a name they
+    define must not be needed by a cell that those editions keep."""
+    only_verify = set()
+    code = [(i, c) for i, c in enumerate(nb.cells) if c.cell_type == "code"]
+    for i, c in code:
+        if "verify" in _tags(c):
+            only_verify |= _defined(_parse(c))
+    for i, c in code:
+        if "verify" not in _tags(c):
+            only_verify -= _defined(_parse(c))
+    needed = []
+    for i, c in code:
+        if "verify" in _tags(c):
+            continue
+        used = {n.id for n in ast.walk(_parse(c)) if isinstance(n, ast.Name)} & only_verify
+        needed += [f"cell {i} uses {n}" for n in sorted(used)]
+    assert not needed, "names defined only in verify cells: " + "; ".join(needed)
+
+
+def _png_width(b64):
+    import base64
+    import struct
+    head = base64.b64decode(b64[:64] if isinstance(b64, str) else "".join(b64)[:64])
+    return struct.unpack(">I", head[16:20])[0]
+
+
+def test_figures_are_drawn_at_the_course_size(nb):
+    """so3lib.plot.use_course_style() draws 10 x 5 inches at 100 dpi (1000 px): nothing a
+    learner or a hall reads is narrower than 700 px."""
+    small = []
+    for i, c in enumerate(nb.cells):
+        for o in c.get("outputs", []) if c.cell_type == "code" else []:
+            png = o.get("data", {}).get("image/png")
+            if png and _png_width(png) < FIGURE_PX_MIN:
+                small.append(f"cell {i}: {_png_width(png)} px")
+    assert not small, f"figures under {FIGURE_PX_MIN} px wide: {', '.join(small)}"

@@ -18,6 +18,7 @@ source notebook     nbgrader course folder, ``source/NN_name/NN_name.ipynb``
                     dropped); markdown: left out
 ``hidden-test``     moved into the test cell
 speaker notes       left out (``slide_type`` ``notes``)
+``verify``          left out: checks of the notebook's own claims, not of the learner
 ==================  ==============================================================
 
 Then ``nbgrader generate_assignment`` writes ``release/``: one assignment per notebook that
@@ -49,6 +50,7 @@ COURSE = BUILD / "coursework"
 COURSE_ID = "so3-exp-log"
 
 ANSWER, CHECK, SOLUTION, HIDDEN = "answer", "check", "solution", "hidden-test"
+VERIFY = "verify"
 _POINTS = re.compile(r"^points-(\d+(?:\.\d+)?)$")
 _EXERCISE = re.compile(r"^#{1,6}\s.*?Exercise\s+([0-9A-Z]+(?:\.[0-9]+)*)", re.M)
 
@@ -283,7 +285,7 @@ def source_notebook(nb, path="notebook"):
         if id(cell) in by_cell:
             cells.append(answer_cell(by_cell[id(cell)]))
             cells.append(test_cell(by_cell[id(cell)], imports))
-        elif id(cell) in checks or t & {SOLUTION, HIDDEN} or is_notes(cell):
+        elif id(cell) in checks or t & {SOLUTION, HIDDEN, VERIFY} or is_notes(cell):
             continue
         else:
             cell = nbformat.from_dict(cell)

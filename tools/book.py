@@ -7,7 +7,8 @@ The notebooks are not executed: the book shows their stored outputs. Each notebo
 notebooks/ (tools.common.course_notebooks, so a new one is picked up) is copied into
 build/book-src/ as the learner reads it:
 
-- speaker notes (slide type `notes`) and grading asserts (tag `hidden-test`) are left out;
+- speaker notes (slide type `notes`), grading asserts (tag `hidden-test`) and the checks the
+  text rests on (tag `verify`) are left out;
 - each run of worked-solution cells (tag `solution`, markdown and code) goes into one
   collapsed "Show solution" block;
 - a cell tagged `hide-input` shows its output with the code collapsed (myst-nb), and a
@@ -74,6 +75,12 @@ def is_hidden_test(cell):
     return "hidden-test" in _tags(cell)
 
 
+def is_verification(cell):
+    """A cell of checks that the notebook's claims rest on (tag `verify`): strict nbval
+    runs it, JupyterLab shows it collapsed, the book leaves it out."""
+    return "verify" in _tags(cell)
+
+
 def is_solution(cell):
     return "solution" in _tags(cell)
 
@@ -136,7 +143,7 @@ def learner_copy(nb, anchors=(), slugs=None):
     import nbformat
     cells, in_solution = [], False
     for cell in nb.cells:
-        if is_speaker_note(cell) or is_hidden_test(cell):
+        if is_speaker_note(cell) or is_hidden_test(cell) or is_verification(cell):
             continue
         if is_solution(cell) != in_solution:
             cells.append(_marker(SOLUTION_END if in_solution else SOLUTION_BEGIN))

@@ -5,8 +5,8 @@ Each cell's slideshow metadata decides where it goes: "slide" starts a new slide
 "skip" leaves the cell out, "notes" goes to the speaker view (press S), "-" continues
 the current slide. A code cell tagged "hide-input" shows only its output (a figure
 without the code that draws it); a figure's alt text is its cell's
-metadata.mystnb.image.alt. Cells tagged "solution", "hidden-test", "answer" or "check"
-are left out: an exercise slide shows the task and how it is checked. `--solutions`
+metadata.mystnb.image.alt. Cells tagged "solution", "hidden-test", "answer", "check" or
+"verify" are left out: an exercise slide shows the task and how it is checked. `--solutions`
 (`make slides-solutions`) builds the decks with the worked solutions, for after the
 deadline, into build/slides-solutions/. `--handouts` (`make handouts`) prints each deck
 to build/handouts/NN_name.pdf, one page per slide, with Chromium (reveal's print view).
@@ -63,9 +63,10 @@ FIGURE_FRACTION = 0.5                    # a figure spans half the slide's width
 SCREENS = [(1280, 720), (1024, 768), (1920, 1080)]  # nothing outside the slide at any
 
 # Cells a deck leaves out: the exercise's stub, checker call, worked solution and grading
-# asserts. The solutions deck keeps the worked solutions.
-DECK_DROPS = {"solution", "hidden-test", "answer", "check"}
-SOLUTION_DECK_DROPS = {"hidden-test", "answer", "check"}
+# asserts, and the checks the notebook's claims rest on (tag "verify"). The solutions deck
+# keeps the worked solutions.
+DECK_DROPS = {"solution", "hidden-test", "answer", "check", "verify"}
+SOLUTION_DECK_DROPS = {"hidden-test", "answer", "check", "verify"}
 
 OUT = BUILD / "slides"
 OUT_SOLUTIONS = BUILD / "slides-solutions"

@@ -9,6 +9,10 @@ STAMP  := $(VENV)/.installed
 ROOT_FLAG := $(if $(filter 0,$(shell id -u)),--allow-root)
 # Fixed hash seed: the same set/dict order in every kernel, so outputs are deterministic.
 export PYTHONHASHSEED := 0
+# Let Python cache compiled modules (some containers and CI images set
+# PYTHONDONTWRITEBYTECODE): without the cache pytest rewrites the asserts of every test
+# module again in each of its processes, 3 s of each worker's start.
+unexport PYTHONDONTWRITEBYTECODE
 
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sanitize.cfg

@@ -4,7 +4,6 @@ import math
 
 import numpy as np
 import sympy as sp
-from scipy import stats
 
 import so3lib
 from conftest import EPS
@@ -83,6 +82,7 @@ def test_random_rotation_shapes_and_seeding():
 
 def test_random_rotation_is_uniform():
     """Haar measure: the angle has CDF (theta - sin theta)/pi, and R e_z is uniform on S^2."""
+    from scipy import stats   # here, not at the top: importing scipy.stats takes a second
     R = so3lib.random_rotation(np.random.default_rng(12345), 20000)
     th = so3lib.angle(R)
     assert stats.kstest(th, lambda t: (t - np.sin(t)) / np.pi).pvalue > 0.01

@@ -16,7 +16,7 @@ import pytest
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 
 from browser_support import ROOT
-from tools import student
+from tools import roles, student
 from tools.common import course_notebooks, read
 
 NOTEBOOKS = course_notebooks()
@@ -64,6 +64,26 @@ def test_strip_replaces_each_run_of_solution_cells_by_one_stub():
     assert "FORTY-TWO" not in text and "SECRET-ANSWER" not in text and "Correct: 42" not in text
     assert "SECRET-NOTE" not in text and "SECRET-TEST" not in text and "SECRET-QUESTION" not in text
     assert len(nb.cells) == 9, "the original notebook is left as it was"
+
+
+def test_readme_table_is_the_roles_module():
+    """The README's table "One source, three editions" is tools/roles.py, row for row, so
+    that what it documents is what the builders do."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    missing = [line for line in roles.table() if line not in text.splitlines()]
+    assert not missing, ("README.md's table differs from tools/roles.py (paste the output of "
+                         "`python -m tools.roles`):\n" + "\n".join(missing))
+
+
+def test_each_role_the_student_edition_drops_is_dropped():
+    """Every role whose student-edition column says "left out" is left out by strip()."""
+    for role in roles.ROLES:
+        if role.action(roles.STUDENT) != roles.DROP or not (role.tag or role.slide_type):
+            continue
+        meta = {"tags": [role.tag]} if role.tag else {"slideshow": {"slide_type": role.slide_type}}
+        nb = new_notebook(cells=[new_markdown_cell("kept"), new_markdown_cell(
+            f"GONE-{role.name}", metadata=meta)])
+        assert [c.source for c in student.strip(nb).cells] == ["kept"], role.name
 
 
 def test_the_edition_has_every_notebook_and_what_it_needs(edition):

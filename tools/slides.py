@@ -5,8 +5,9 @@ Each cell's slideshow metadata decides where it goes: "slide" starts a new slide
 "skip" leaves the cell out, "notes" goes to the speaker view (press S), "-" continues
 the current slide. A code cell tagged "hide-input" shows only its output (a figure
 without the code that draws it); a figure's alt text is its cell's
-metadata.mystnb.image.alt. Cells tagged "solution", "hidden-test", "answer", "check" or
-"verify" are left out: an exercise slide shows the task and how it is checked. `--solutions`
+metadata.mystnb.image.alt. Which cells the deck leaves out is tools/roles.py's (the README's
+table): those tagged "solution", "hidden-test", "answer", "check" or "verify", among others;
+an exercise slide shows the task and how it is checked. `--solutions`
 (`make slides-solutions`) builds the decks with the worked solutions, for after the
 deadline, into build/slides-solutions/. `--handouts` (`make handouts`) prints each deck
 to build/handouts/NN_name.pdf, one page per slide, with Chromium (reveal's print view).
@@ -37,7 +38,7 @@ from pathlib import Path
 from nbconvert.exporters import SlidesExporter
 from traitlets.config import Config
 
-from tools import vendor
+from tools import roles, vendor
 from tools.common import (
     BUILD,
     TEMPLATES,
@@ -62,11 +63,12 @@ PROSE_PX, CODE_PX = 28, 24               # smallest font on screen at 1280x720
 FIGURE_FRACTION = 0.5                    # a figure spans half the slide's width or height
 SCREENS = [(1280, 720), (1024, 768), (1920, 1080)]  # nothing outside the slide at any
 
-# Cells a deck leaves out: the exercise's stub, checker call, worked solution and grading
-# asserts, and the checks the notebook's claims rest on (tag "verify"). The solutions deck
-# keeps the worked solutions.
-DECK_DROPS = {"solution", "hidden-test", "answer", "check", "verify"}
-SOLUTION_DECK_DROPS = {"hidden-test", "answer", "check", "verify"}
+# The tags of the cells a deck leaves out (tools/roles.py, the README's table): the
+# exercise's stub, checker call, worked solution and grading asserts, the checks the
+# notebook's claims rest on (tag "verify"), ... The solutions deck keeps the worked solutions.
+# Cells of slide type "skip" and "notes" are nbconvert's own to leave out or put in the notes.
+DECK_DROPS = roles.tags_left_out(roles.DECK)
+SOLUTION_DECK_DROPS = roles.tags_left_out(roles.DECK_SOLUTIONS)
 
 OUT = BUILD / "slides"
 OUT_SOLUTIONS = BUILD / "slides-solutions"
@@ -88,10 +90,11 @@ def exporter(solutions=False):
     c.SlidesExporter.reveal_height = str(HEIGHT)
     c.SlidesExporter.exclude_input_prompt = True
     c.SlidesExporter.exclude_output_prompt = True
-    # A cell tagged "hide-input" shows only its output on the slide (a figure without the
+    # A cell whose deck shows only its output (tag "hide-input": a figure without the
     # plotting code); the notebook and the book still show the code.
     c.TagRemovePreprocessor.enabled = True
-    c.TagRemovePreprocessor.remove_input_tags = {"hide-input"}
+    c.TagRemovePreprocessor.remove_input_tags = {r.tag for r in roles.ROLES
+                                                 if r.tag and r.action(roles.DECK) == roles.OUTPUT}
     c.TagRemovePreprocessor.remove_cell_tags = SOLUTION_DECK_DROPS if solutions else DECK_DROPS
     c.SlidesExporter.extra_template_basedirs = [str(TEMPLATES)]
     c.SlidesExporter.extra_template_paths = [str(TEMPLATES)]  # for course_mathjax.html.j2
@@ -444,8 +447,9 @@ def deck_faults(name, slides):
 
 
 def solution_lines(notebook):
-    """The lines of the notebook's solution cells (tags in DECK_DROPS) that no kept cell has
-    too: none of them may appear in the default deck."""
+    """The lines of the cells the deck leaves out by their tags (DECK_DROPS: solutions,
+    stubs, checker calls...) that no kept cell has too: none of them may appear in the
+    default deck."""
     nb = read(notebook)
     kept = set()
     dropped = []
@@ -453,7 +457,7 @@ def solution_lines(notebook):
         lines = [ln.strip() for ln in cell.source.splitlines() if len(ln.strip()) >= 12]
         if DECK_DROPS & set(cell.metadata.get("tags", [])):
             dropped += lines
-        elif cell.metadata.get("slideshow", {}).get("slide_type") != "skip":
+        elif not roles.left_out(cell, roles.DECK):
             kept.update(lines)
     return sorted({ln for ln in dropped if ln not in kept})
 

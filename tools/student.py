@@ -1,10 +1,11 @@
 """`make student`: the course for self-study, in build/student/, without the worked solutions.
 
-Every run of consecutive cells tagged "solution" or "hidden-test" (the worked answer to an
-exercise with its output, and the grading asserts) is replaced by one markdown cell saying
-it is the learner's turn, and the speaker notes (slide type "notes", which answer the
-lecturer's questions) are left out; everything else, the exercise stubs and the checker
-calls with their hints included, stays as it is. Graded coursework is the other edition
+What happens to each cell is tools/roles.py's (the README's table, column "student
+edition"): every run of consecutive cells tagged "solution" or "hidden-test" (the worked
+answer to an exercise with its output, and the grading asserts) is replaced by one markdown
+cell saying it is the learner's turn, and the speaker notes (slide type "notes", which
+answer the lecturer's questions) are left out; everything else, the exercise stubs and the
+checker calls with their hints included, stays as it is. Graded coursework is the other edition
 of the same exercises (tools/assignments.py, `make assignments`). The folder is
 self-contained, so an instructor can hand it out or publish it as its own repository:
 notebooks/, the so3lib library the checkers live in, environment.txt, pyproject.toml,
@@ -24,10 +25,9 @@ from pathlib import Path
 import nbformat
 from nbformat.v4 import new_markdown_cell
 
+from tools import roles
 from tools.common import BUILD, ROOT, build_target, course_notebooks, read
 
-SOLUTION_TAG = "solution"
-HIDDEN_TAG = "hidden-test"
 STUB_TAG = "your-turn"
 STUB_TEXT = (
     "**Your turn.** Write your answer in the cell above the checker, run it, then run the "
@@ -57,21 +57,27 @@ Work through the notebooks in order: 00, 01, ..., 06, then the appendix A1.
 
 
 def is_solution(cell):
-    """A worked solution or a hidden test: what the learner must not see."""
-    return bool({SOLUTION_TAG, HIDDEN_TAG} & set(cell.metadata.get("tags", [])))
+    """A worked solution or a hidden test: what the learner must not see, in whose place
+    the edition puts a "your turn" cell (roles: SPECIAL in the student edition)."""
+    return roles.SPECIAL in roles.actions(cell, roles.STUDENT) and not left_out(cell)
+
+
+def left_out(cell):
+    """A cell the edition leaves out: speaker notes, ... (roles: DROP)."""
+    return roles.left_out(cell, roles.STUDENT)
 
 
 def is_notes(cell):
-    return cell.metadata.get("slideshow", {}).get("slide_type") == "notes"
+    return roles.has(cell, "notes")
 
 
 def strip(nb):
-    """A copy of NB without speaker notes, each run of solution (and hidden-test) cells
-    replaced by one "your turn" stub."""
+    """A copy of NB without the cells the edition leaves out (speaker notes, ...), each run
+    of solution (and hidden-test) cells replaced by one "your turn" stub."""
     nb = nbformat.from_dict(nb)
     cells, in_run = [], False
     for cell in nb.cells:
-        if is_notes(cell):
+        if left_out(cell):
             continue
         if is_solution(cell):
             if not in_run:
@@ -87,7 +93,6 @@ def strip(nb):
     nb.cells = cells
     nbformat.validate(nb)
     return nb
-
 
 
 def build(out=BUILD / "student", notebooks=None):

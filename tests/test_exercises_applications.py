@@ -15,6 +15,7 @@ from so3lib.exercises import Feedback, applications
 from so3lib.exercises.applications import (
     check_keyframes,
     check_rotation_mean,
+    check_smooth_path,
     check_steps_needed,
     check_velocity_jump,
 )
@@ -70,7 +71,8 @@ def test_nan_is_reported(checker, name, shape):
 def test_the_module_holds_no_answer():
     # Only checkers are public: no reference function a learner could import and pass.
     assert applications.__all__ == ["check_keyframes", "check_rotation_mean",
-                                    "check_steps_needed", "check_velocity_jump"]
+                                    "check_smooth_path", "check_steps_needed",
+                                    "check_velocity_jump"]
     names = [n for n, f in inspect.getmembers(applications, inspect.isfunction)
              if f.__module__ == applications.__name__]
     assert not [n for n in names if "reference" in n]
@@ -264,7 +266,7 @@ def test_velocity_jump_typical_mistakes_are_named(student, says):
     assert "expected" not in repr(fb).lower()
 
 
-# --- 5.4 weighted mean of rotations ---------------------------------------------------
+# --- 5.5 weighted mean of rotations ---------------------------------------------------
 
 def _karcher(Rs, weights):
     w = np.asarray(weights, float) / np.sum(weights)
@@ -306,3 +308,75 @@ def test_rotation_mean_right_answer_passes():
 ])
 def test_rotation_mean_typical_mistakes_are_named(student, says):
     _assert_not_yet(check_rotation_mean(student), "rotation_mean", says)
+
+
+# --- 5.4 no kink: a geodesic cubic through the keyframes ---------------------------------
+
+def _geo(P, Q, u):
+    return P @ exp(log(P.T @ Q), u)
+
+
+def _cubic(third=1 / 3, left=False, arrive_sign=-1, per_second=True):
+    """De Casteljau with geodesics on each segment; the keywords make the usual mistakes."""
+    def smooth_path(Rs, times, ws, t):
+        i = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
+        h = times[i + 1] - times[i]
+        u = (t - times[i]) / h
+        k = third * (h if per_second else 1.0)
+        if left:
+            A, B = exp(k * ws[i]) @ Rs[i], exp(arrive_sign * k * ws[i + 1]) @ Rs[i + 1]
+        else:
+            A, B = Rs[i] @ exp(k * ws[i]), Rs[i + 1] @ exp(arrive_sign * k * ws[i + 1])
+        P = [Rs[i], A, B, Rs[i + 1]]
+        while len(P) > 1:
+            P = [_geo(P[j], P[j + 1], u) for j in range(len(P) - 1)]
+        return P[0]
+    return smooth_path
+
+
+def test_smooth_path_right_answer_passes():
+    fb = check_smooth_path(_cubic())
+    assert fb and repr(fb).startswith("Correct: smooth_path")
+
+
+def _segment_geodesic(Rs, times, ws, t):
+    return _keyframe_path(Rs, times, t)
+
+
+@pytest.mark.parametrize("student, says", [
+    (None, "No answer yet"),
+    (42, "Expected a function"),
+    (lambda Rs, times, ws, t: (_ for _ in ()).throw(NotImplementedError()), "Not written yet"),
+    (lambda Rs, times, ws, t: 1 / 0, "raised ZeroDivisionError"),
+    (lambda Rs, times, ws, t: None, "returned None"),
+    (lambda Rs, times, ws, t: np.full((3, 3), np.nan), "NaN or inf"),
+    (lambda Rs, times, ws, t: np.eye(3), "not at R_1"),
+    (_segment_geodesic, "as in 5.1"),
+    (_cubic(third=1.0), "3 times"),
+    (_cubic(left=True), "another frame"),
+    (_cubic(arrive_sign=+1), "wrong way"),
+    (_cubic(per_second=False), "divided by the segment's duration"),
+    (lambda Rs, times, ws, t: 1.5 * _cubic()(Rs, times, ws, t), "not at R_0|not a rotation"),
+])
+def test_smooth_path_typical_mistakes_are_named(student, says):
+    fb = check_smooth_path(student)
+    _assert_not_yet(fb, "smooth_path", says)
+    assert "expected" not in repr(fb).lower() or "Expected a function" in repr(fb)
+
+
+def test_smooth_path_kink_inside_a_segment_is_found():
+    # Right at every keyframe, but the segment is two geodesic halves with a corner.
+    right = _cubic()
+
+    def cornered(Rs, times, ws, t):
+        i = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
+        mid = 0.5 * (times[i] + times[i + 1])
+        Rm = right(Rs, times, ws, mid) @ exp([0.0, 0.0, 0.05])
+        if abs(t - times[i]) < 1e-3 or abs(t - times[i + 1]) < 1e-3:
+            return right(Rs, times, ws, t)
+        if t <= mid:
+            return _geo(right(Rs, times, ws, times[i] + 1e-3), Rm,
+                        (t - times[i] - 1e-3) / (mid - times[i] - 1e-3))
+        return _geo(Rm, right(Rs, times, ws, times[i + 1] - 1e-3),
+                    (t - mid) / (times[i + 1] - 1e-3 - mid))
+    _assert_not_yet(check_smooth_path(cornered), "smooth_path", "kink inside the segment")

@@ -10,7 +10,7 @@ import pytest
 
 from so3lib import exp, log
 from so3lib.exercises import Feedback, errata
-from so3lib.exercises.errata import check_wrapped_velocity
+from so3lib.exercises.errata import check_breaking_input, check_wrapped_velocity
 
 
 def _assert_not_yet(fb, says):
@@ -199,6 +199,65 @@ def test_the_module_holds_no_answer():
     # Only the checker is public, and no function of the module returns a velocity.
     public = [n for n, f in inspect.getmembers(errata, inspect.isfunction)
               if f.__module__ == errata.__name__]
-    assert sorted(public) == ["_call_logging", "_calls_log", "_fail", "_forbidden", "_judge",
-                              "_logarithm_codes", "_package", "check_wrapped_velocity"]
-    assert errata.__all__ == ["check_wrapped_velocity"]
+    assert sorted(public) == ["_break_fail", "_call_logging", "_calls_log", "_fail",
+                              "_forbidden", "_judge", "_logarithm_codes", "_notes_ln",
+                              "_package", "check_breaking_input", "check_wrapped_velocity"]
+    assert errata.__all__ == ["check_breaking_input", "check_wrapped_velocity"]
+
+
+# --- A1.2: an input that breaks the notes' logarithm -------------------------------------
+
+_N = np.array([1.0, 2.0, 2.0]) / 3.0
+
+
+def _raise_no_arg(exc):
+    def g():
+        raise exc
+    return g
+
+
+@pytest.mark.parametrize("inputs, says", [
+    ((np.diag([1.0, -1.0, -1.0]), 1.0), "returns 0 on your input, silently"),   # a half-turn
+    ((exp([1e-9, 0.0, 0.0]), 1.0), "returns 0 on your input, silently"),        # arccos -> 0
+    ((exp((np.pi - 1e-12) * _N), 2.0), "off by a relative"),                      # near pi
+    ((exp((np.pi - 1e-7) * _N), -1.0), "off by a relative"),
+])
+def test_breaking_inputs_pass_and_say_how_the_notes_fail(inputs, says):
+    fb = check_breaking_input(lambda: inputs)
+    assert fb and repr(fb).startswith("Correct: breaking_input"), repr(fb)
+    assert re.search(says, repr(fb)), repr(fb)
+
+
+def test_an_arccos_past_one_is_a_nan():
+    E = exp(np.random.default_rng(0).standard_normal((2000, 3)))
+    P = E @ np.swapaxes(E, -1, -2)                    # rotations to rounding, some c > 1
+    c = (np.trace(P, axis1=1, axis2=2) - 1) / 2
+    assert c.max() > 1
+    fb = check_breaking_input(lambda: (P[np.argmax(c)], 1.0))
+    assert fb and "NaN or inf" in repr(fb)
+
+
+def _assert_break_not_yet(fb, says):
+    assert isinstance(fb, Feedback) and not fb
+    assert repr(fb).startswith("Not yet: breaking_input"), repr(fb)
+    assert re.search(says, repr(fb)), repr(fb)
+
+
+@pytest.mark.parametrize("student, says", [
+    (None, "No answer yet"),
+    (7, "Expected a function"),
+    (_raise_no_arg(NotImplementedError()), "Not written yet"),
+    (_raise_no_arg(ValueError("boom")), "raised ValueError: boom"),
+    (lambda: None, "returned None"),
+    (lambda: 3, r"Expected a pair \(R, tau\)"),
+    (lambda: (np.eye(2), 1.0), "finite 3x3 matrix"),
+    (lambda: (exp([0.3, 0.2, 0.1]), 0.0), "tau = 0.*errata N10"),
+    (lambda: (exp([0.3, 0.2, 0.1]), float("nan")), "finite number"),
+    (lambda: (2 * np.eye(3), 1.0), "not a rotation"),
+    (lambda: (-np.eye(3), 1.0), "not a rotation"),
+    (lambda: (exp([0.3, 0.2, 0.1]), 1.0), "gets this input right"),
+    (lambda: (exp([0.0, 0.0, 3.0]), -2.0), "gets this input right"),   # tau < 0 is fine
+    (lambda: (np.eye(3), 1.0), "gets this input right"),               # their sigma = 0 rule
+])
+def test_inputs_the_notes_handle_are_not_accepted(student, says):
+    _assert_break_not_yet(check_breaking_input(student), says)

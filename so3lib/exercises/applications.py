@@ -10,7 +10,10 @@ checker                    the exercise
                            (5.7) that keep the body within a factor ``1 + tol`` of its size
 ``check_velocity_jump``    5.3 ``velocity_jump(Rs, times)``: how much the body angular
                            velocity jumps at the middle of three keyframes
-``check_rotation_mean``    5.4 ``rotation_mean(Rs, weights)``, the weighted geodesic
+``check_smooth_path``      5.4 ``smooth_path(Rs, times, ws, t)``: a path through the
+                           keyframes whose body angular velocity is ``ws[i]`` on both sides
+                           of keyframe ``i`` (a geodesic cubic, by De Casteljau): no kink
+``check_rotation_mean``    5.5 ``rotation_mean(Rs, weights)``, the weighted geodesic
                            (Karcher) mean of rotations
 =========================  ===============================================================
 
@@ -29,7 +32,7 @@ from ..so3 import exp, log
 from ..validation import rotation_defects
 from . import Feedback
 
-__all__ = ["check_keyframes", "check_rotation_mean", "check_steps_needed",
+__all__ = ["check_keyframes", "check_rotation_mean", "check_smooth_path", "check_steps_needed",
            "check_velocity_jump"]
 
 _NOT_ANSWERED = ("No answer yet: replace the `...` (or `None`) with your answer and run the "
@@ -301,7 +304,7 @@ def check_velocity_jump(func):
                 "the rotation vector of the step divided by the time the step takes.")
 
 
-# --- 5.4 the weighted mean of rotations -----------------------------------------------
+# --- 5.5 the weighted mean of rotations -----------------------------------------------
 
 def _mean_cases():
     c = exp([0.2, -0.3, 0.5])
@@ -342,8 +345,150 @@ def _judge_mean(got, args):
 
 
 def check_rotation_mean(func):
-    """Exercise 5.4: ``rotation_mean(Rs, weights)`` is a rotation at which the weighted
+    """Exercise 5.5: ``rotation_mean(Rs, weights)`` is a rotation at which the weighted
     attitude errors ``Log(R_bar^T R_i)`` sum to zero."""
     return _run(func, _mean_cases(), "rotation_mean", (3, 3), _judge_mean,
                 "Start from R_bar = Rs[0]; repeat: step = sum_i w_i Log(R_bar^T R_i) / sum_i w_i, "
                 "R_bar = R_bar exp(step), until |step| < 1e-12.")
+
+
+# --- 5.4 no kink: a cubic through the keyframes ----------------------------------------
+
+def _smooth_cases():
+    Rz = exp([0.0, 0.0, 1.0])
+    three = np.stack([np.eye(3), Rz, Rz @ exp([1.0, 0.0, 0.0])])
+    gen = np.stack([exp([0.3, -0.5, 0.2]), exp([-0.4, 0.9, 1.1]), exp([1.0, 0.6, -0.5]),
+                    exp([0.2, 0.1, 0.3])])
+    return [
+        ("three keyframes (I, 1 rad about z, then 1 rad about the body's x) at times "
+         "(0, 1, 2.5), velocities (0, 0, 1), (0.33, 0, 0.5), (0.67, 0, 0) rad/s",
+         (three, np.array([0.0, 1.0, 2.5]),
+          np.array([[0.0, 0.0, 1.0], [1.0 / 3.0, 0.0, 0.5], [2.0 / 3.0, 0.0, 0.0]]))),
+        ("the same keyframes and times, every velocity zero (the body stops at each)",
+         (three, np.array([0.0, 1.0, 2.5]), np.zeros((3, 3)))),
+        ("four general keyframes at times (0, 0.5, 2, 2.5) with general velocities",
+         (gen, np.array([0.0, 0.5, 2.0, 2.5]),
+          np.array([[0.4, -0.2, 0.1], [-0.3, 0.5, 0.6], [0.2, 0.2, -0.7], [0.0, 0.3, 0.1]]))),
+    ]
+
+
+def _rate(func, Rs, times, ws, t, side):
+    """Body angular velocity of ``func``'s path just after (side +1) or just before (side
+    -1) time t: (5.8) over steps h and h/2 near t, combined by Richardson's rule (error
+    O(h^2); h = 1e-4 s, so about 1e-8 rad/s on these paths)."""
+    def path(s):
+        M = np.asarray(func(Rs.copy(), times.copy(), ws.copy(), s), dtype=float)
+        if M.shape != (3, 3) or not np.isfinite(M).all():
+            raise ValueError("not a finite 3x3 matrix")
+        return M
+
+    def one_sided(h):
+        a, b = (t, t + h) if side > 0 else (t - h, t)
+        return log(path(a).T @ path(b)) / h
+    h = 1e-4
+    return 2 * one_sided(h / 2) - one_sided(h)
+
+
+def _judge_velocity(v, w, R, h_seg, seg_phi, where):
+    """None if the measured body velocity ``v`` is ``w``, else what went wrong."""
+    if np.abs(v - w).max() < 1e-5:
+        return None
+    if np.abs(v - seg_phi / h_seg).max() < 1e-5 and np.abs(w - seg_phi / h_seg).max() > 1e-5:
+        return (f"{where}, your path turns at the constant velocity of the geodesic (5.2) of "
+                "the segment, as in 5.1, not at the velocity w_i given for the keyframe: "
+                "that is the kink. Bend each segment with the control rotations A_i and B_i.")
+    if np.abs(w).max() > 1e-9 and np.abs(v - 3 * w).max() < 1e-4:
+        return (f"{where}, the body angular velocity is 3 times w_i: a cubic leaves its end "
+                "3 times as fast as the step to its control point, so put the control "
+                "rotation only a third of the way: exp of (h/3) w_i.")
+    if np.abs(w).max() > 1e-9 and h_seg != 1 and np.abs(v - w / h_seg).max() < 1e-4:
+        return (f"{where}, the velocity is w_i divided by the segment's duration h: the "
+                "control step must turn by (h/3) w_i, the turn made in a third of the "
+                "segment's time, not by w_i / 3.")
+    if np.abs(w).max() > 1e-9 and np.abs(v - R.T @ w).max() < 1e-5:
+        return (f"{where}, the velocity is w_i turned into another frame: w_i is a body "
+                "velocity, so the control rotation multiplies R_i on the right, "
+                "R_i exp((h/3) w_i).")
+    if np.abs(w).max() > 1e-9 and np.abs(v + w).max() < 1e-5:
+        return (f"{where}, the body turns the wrong way (-w_i): check the sign of the "
+                "control step at that end. Arriving at R_(i+1) with velocity w_(i+1) means "
+                "B_i = R_(i+1) exp(-(h/3) w_(i+1)).")
+    off = float(np.abs(v - w).max())
+    return (f"{where}, the body angular velocity differs from the w_i given for that "
+            f"keyframe by up to {off:.2g} rad/s.")
+
+
+def _point(func, Rs, times, ws, t):
+    """(R(t), None) from the learner's path, or (None, what is wrong with the result)."""
+    got = func(Rs.copy(), times.copy(), ws.copy(), t)
+    if got is None:
+        return None, "it returned None: is the `return` missing?"
+    return _as_array(got, (3, 3))
+
+
+def _smooth_failure(func, Rs, times, ws):
+    """None if ``func``'s path through (Rs, times) has body velocity ws[i] on both sides
+    of each keyframe, else a sentence saying what is wrong."""
+    K = len(times)
+    for i in range(K):
+        M, why = _point(func, Rs, times, ws, times[i])
+        if why:
+            return f"at t = t_{i}: {why}"
+        if not _close(M, Rs[i], 1e-9):
+            return (f"at the time t_{i} of keyframe {i} your path is not at R_{i}: it must "
+                    "pass through every keyframe at its time.")
+    for i in range(K - 1):
+        for u in (0.3, 0.7):
+            t = times[i] + u * (times[i + 1] - times[i])
+            M, why = _point(func, Rs, times, ws, t)
+            if why:
+                return f"at t = {t:.3g}: {why}"
+            bad = _not_a_rotation(M)
+            if bad:
+                return f"at t = {t:.3g}: {bad} Every point of the path must be a rotation."
+    for i in range(K):
+        for side in (+1, -1):
+            if (side > 0 and i == K - 1) or (side < 0 and i == 0):
+                continue
+            j = i if side > 0 else i - 1                      # the segment on that side
+            h_seg = times[j + 1] - times[j]
+            v = _rate(func, Rs, times, ws, times[i], side)
+            where = f"just {'after' if side > 0 else 'before'} keyframe {i}"
+            why = _judge_velocity(v, ws[i], Rs[i], h_seg, log(Rs[j].T @ Rs[j + 1]),
+                                  where)
+            if why:
+                return why
+    for i in range(K - 1):                                    # no kink inside a segment
+        t = times[i] + 0.5 * (times[i + 1] - times[i])
+        gap = np.abs(_rate(func, Rs, times, ws, t, +1) - _rate(func, Rs, times, ws, t, -1)).max()
+        if gap > 1e-5:
+            return (f"half way through segment {i} the body angular velocity jumps by "
+                    f"{gap:.2g} rad/s: the path has a kink inside the segment.")
+    return None
+
+
+def check_smooth_path(func):
+    r"""Exercise 5.4: ``smooth_path(Rs, times, ws, t)`` passes through every keyframe
+    ``Rs[i]`` at ``times[i]``, stays in SO(3), and has the body angular velocity
+    ``ws[i]`` just before and just after each keyframe (measured by (5.8) over short steps),
+    with no kink inside a segment: a path whose :math:`\omega(t)` is continuous."""
+    name = "smooth_path"
+    if func is None or func is Ellipsis:
+        return _fail(name, _NOT_ANSWERED)
+    if not callable(func):
+        return _fail(name, f"Expected a function, got a {type(func).__name__}.")
+    hint = ("On segment i, with h = t_(i+1) - t_i and u = (t - t_i) / h: A = R_i exp((h/3) w_i), "
+            "B = R_(i+1) exp(-(h/3) w_(i+1)); then De Casteljau with the geodesic step "
+            "g(P, Q, u) = P exp(u Log(P^T Q)): three points, then two, then one.")
+    for label, (Rs, times, ws) in _smooth_cases():
+        try:
+            with np.errstate(all="ignore"):
+                why = _smooth_failure(func, Rs, times, ws)
+        except NotImplementedError:
+            return _fail(name, "Not written yet: the function still raises NotImplementedError.")
+        except Exception as err:  # noqa: BLE001 -- a checker never raises
+            return _fail(name, f"Calling it on {label} raised {type(err).__name__}: {err}", hint)
+        if why:
+            return _fail(name, f"On {label}: {why}", hint)
+    return _ok(name, f"On {len(_smooth_cases())} sets of keyframes it passes through each "
+                     "at its time with the given body angular velocity on both sides: no kink.")

@@ -6,6 +6,8 @@ checker                    the exercise
 ``check_wrapped_velocity`` A1.1 ``wrapped_velocity(omega, tau)``: what
                            :math:`\ln_\tau(e^{\tau\hat\omega})` really returns, predicted
                            without ``log`` (errata N15)
+``check_breaking_input``   A1.2 ``breaking_input()``: a rotation and a time on which the
+                           notes' logarithm fails (errata N11, N12)
 =========================  ===============================================================
 
 The checker returns a :class:`so3lib.exercises.Feedback` and never raises. It tests the
@@ -17,6 +19,7 @@ expected answer.
 
 import contextlib
 import inspect
+import math
 import types
 
 import numpy as np
@@ -25,7 +28,7 @@ from .. import so3
 from ..so3 import exp
 from . import Feedback, _calls_watched, _code_names
 
-__all__ = ["check_wrapped_velocity"]
+__all__ = ["check_breaking_input", "check_wrapped_velocity"]
 
 _NOT_ANSWERED = ("No answer yet: replace the `...` (or `None`) with your answer and run the "
                  "cell again.")
@@ -201,3 +204,90 @@ def check_wrapped_velocity(func):
     return Feedback(True, f"Correct: wrapped_velocity. It predicts what log returns in "
                           f"{len(_WRAP_CASES)} cases: exp and log are inverses only below "
                           "half a turn.")
+
+
+# --- A1.2: an input on which the notes' logarithm fails ---------------------------------
+
+def _notes_ln(R, tau):
+    """The notes' ln_tau as printed, with N13 corrected (omega = sigma n) and their own
+    rule at sigma = 0 (omega = 0): the recipe the exercise asks the learner to break."""
+    with np.errstate(all="ignore"):
+        c = (np.trace(R) - 1) / 2
+        sigma = np.arccos(c) / tau
+        if sigma == 0:
+            return np.zeros(3)
+        n = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / (
+            2 * np.sin(sigma * tau))
+        return sigma * n
+
+
+def _break_fail(why, hint=True):
+    text = f"Not yet: breaking_input. {why}"
+    if hint:
+        text += ("\nHint: the notes' log takes arccos((tr R - 1) / 2) and divides by "
+                 "sin(sigma tau). Where is that sine zero, or tiny? Where does arccos lose "
+                 "its digits (errata N11, N12)?")
+    return Feedback(False, text)
+
+
+def check_breaking_input(func):
+    r"""Exercise A1.2: ``breaking_input()`` returns ``(R, tau)``, a rotation and a time
+    :math:`\tau \ne 0` on which the notes' logarithm (N13 corrected) fails: it returns NaN
+    or inf, or an :math:`\omega` more than a relative :math:`10^{-6}` from the principal
+    :math:`\ln_\tau R` (either sign at a half-turn)."""
+    if func is None or func is Ellipsis:
+        return _break_fail(_NOT_ANSWERED, False)
+    if not callable(func):
+        return _break_fail(f"Expected a function, got a {type(func).__name__}.", False)
+    try:
+        got = func()
+    except NotImplementedError:
+        return _break_fail("Not written yet: the function still raises NotImplementedError.",
+                           False)
+    except Exception as err:  # noqa: BLE001 -- a checker never raises
+        return _break_fail(f"Calling it raised {type(err).__name__}: {err}", False)
+    if got is None:
+        return _break_fail("It returned None: is the `return` missing?", False)
+    try:
+        R, tau = got
+        R = np.asarray(R, dtype=float)
+        tau = float(tau)
+    except (TypeError, ValueError):
+        return _break_fail("Expected a pair (R, tau): a 3x3 rotation matrix and a time.", False)
+    if R.shape != (3, 3) or not np.isfinite(R).all():
+        return _break_fail(f"R must be a finite 3x3 matrix; got shape {R.shape}.", False)
+    if not math.isfinite(tau):
+        return _break_fail("tau must be a finite number of seconds.", False)
+    if tau == 0:
+        return _break_fail("tau = 0: the notes never exclude it (errata N10), but no "
+                           "angular velocity turns anything in no time, so there is no right "
+                           "answer to miss. Choose tau != 0.", False)
+    orth = float(np.abs(R.T @ R - np.eye(3)).max())
+    if orth > 1e-9 or np.linalg.det(R) <= 0:
+        return _break_fail(f"R is not a rotation (max|R^T R - I| = {orth:.2g}, det R = "
+                           f"{float(np.linalg.det(R)):.4g}): the notes' log is meant for "
+                           "rotations. Build one with so3lib's exp, for example.", False)
+    try:
+        true = so3.log(R, tau)
+    except ValueError as err:
+        return _break_fail(f"so3lib's log refuses R: {err}", False)
+    w = _notes_ln(R, tau)
+    if not np.isfinite(w).all():
+        return Feedback(True, "Correct: breaking_input. The notes' log returns NaN or inf on "
+                              "your input: it divides by a zero sine, or takes arccos of a "
+                              "number past 1 (errata N11, N12).")
+    size = float(np.linalg.norm(true))
+    err = float(np.linalg.norm(w - true))
+    if size * abs(tau) > np.pi - 1e-6:                     # a half-turn: either sign is right
+        err = min(err, float(np.linalg.norm(w + true)))
+    if err <= 1e-6 * size:
+        return _break_fail("The notes' log gets this input right (relative error below "
+                           "1e-6).")
+    if not np.any(w):
+        return Feedback(True, "Correct: breaking_input. The notes' log returns 0 on your "
+                              "input, silently: a rotation that is not the identity gets no "
+                              "angular velocity at all (errata N11, N12).")
+    return Feedback(True, f"Correct: breaking_input. The notes' log is off by a relative "
+                          f"{err / size:.1g} on your input, without a warning: its division "
+                          "by a small sine, or its arccos, has lost the digits (errata N11, "
+                          "N12).")

@@ -22,7 +22,7 @@ import pytest
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook, new_output
 
 from browser_support import SCREENSHOTS, screenshot, turn_deck_figures
-from tools import slides
+from tools import roles, slides, student
 from tools.common import course_notebooks, read
 
 pytestmark = pytest.mark.browser
@@ -350,6 +350,49 @@ def test_alt_text_hanging_indent_and_speaker_view(browser, small_deck):
         assert not d.blocked and not d.errors, d.blocked + d.errors
     finally:
         d.close()
+
+
+def _lecture(cell, slide_type, tag="lecture"):
+    return _meta(cell, slide_type, tags=[tag], jupyter={"source_hidden": True})
+
+
+def test_lecture_only_and_notebook_only_cells(tmp_path):
+    """Cells for the lecture (a roadmap, a question to the hall and its answer on the next
+    fragment) are in the deck and in no reading edition; a notebook-only cell is in every
+    edition but the deck (tools/roles.py, README "One source, three editions")."""
+    nb = new_notebook(cells=[
+        _lecture(new_markdown_cell("## Roadmap\n\nLECTURE-ROADMAP"), "slide"),
+        _lecture(new_markdown_cell("## Vote\n\nQUESTION-TO-THE-HALL?"), "slide", "question"),
+        _lecture(new_markdown_cell("ANSWER-ON-THE-NEXT-FRAGMENT"), "fragment"),
+        _meta(new_markdown_cell("## Table\n\nNOTEBOOK-ONLY-TABLE"), "slide", tags=["notebook-only"]),
+        _meta(new_markdown_cell("## Read on\n\nFOR-EVERYONE"), "slide"),
+    ])
+    assert roles.lecture_faults(nb) == []
+    path = tmp_path / "97_lecture.ipynb"
+    nbformat.write(nb, str(path))
+    (deck,) = _build(slides.build, tmp_path / "slides", [path])
+    html = deck.read_text()
+    for text in ("LECTURE-ROADMAP", "QUESTION-TO-THE-HALL", "ANSWER-ON-THE-NEXT-FRAGMENT", "FOR-EVERYONE"):
+        assert text in html, f"{text} is not in the deck"
+    assert "NOTEBOOK-ONLY-TABLE" not in html
+    assert "celltag_question" in html
+    answer = html.index("ANSWER-ON-THE-NEXT-FRAGMENT")
+    assert html.rfind('class="fragment', 0, answer) > html.index("QUESTION-TO-THE-HALL"), \
+        "the answer is not on a fragment after its question"
+    kept = [c.source for c in student.strip(nb).cells]
+    assert kept == ["## Table\n\nNOTEBOOK-ONLY-TABLE", "## Read on\n\nFOR-EVERYONE"]
+    for cell in nb.cells[:3]:
+        for edition in (roles.BOOK, roles.COURSEWORK, roles.STUDENT):
+            assert roles.left_out(cell, edition), (cell.source, edition)
+    # a question without its answer next is named
+    nb.cells[2].metadata["slideshow"]["slide_type"] = "-"
+    assert len(roles.lecture_faults(nb)) == 1
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_each_question_to_the_hall_has_its_answer_next(name):
+    faults = roles.lecture_faults(read(PATHS[name]))
+    assert not faults, _fail_list(name, "lecture cells (README, 'One source, three editions')", faults)
 
 
 def test_hang_code_keeps_pygments_spans_per_line():

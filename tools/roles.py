@@ -69,9 +69,22 @@ ROLES = (
        _SHOWN, _SHOWN, (SHOW, "a slide"), _SHOWN, _SHOWN),
     _r("skip", "detail for self-study", "`slide_type` `skip`",
        _SHOWN, _SHOWN, _LEFT_OUT, _SHOWN, _SHOWN, slide_type="skip"),
-    _r("notes", "speaker notes",
+    _r("notes", "speaker notes: cues, the minute into the lecture (`[12 min]` first), the "
+       "answers to the hall's questions and the exercises",
        "`slide_type` `notes`, and `jupyter.source_hidden: true`",
        _COLLAPSED, _LEFT_OUT, (NOTES, "speaker view"), _LEFT_OUT, _LEFT_OUT, slide_type="notes"),
+    _r("lecture", "for the lecture only: a roadmap, a recap of the last lecture, a homework "
+       "slide, the answer to a question (on the next fragment)",
+       "tag `lecture`, and `jupyter.source_hidden: true`",
+       _COLLAPSED, _LEFT_OUT, (SHOW, "shown"), _LEFT_OUT, _LEFT_OUT, tag="lecture"),
+    _r("question", "a question to the hall (predict or vote), its answer in the next cell "
+       "(tag `lecture`, `slide_type` `fragment`) and in the notes",
+       "tag `question`, and `jupyter.source_hidden: true`",
+       _COLLAPSED, _LEFT_OUT, (SHOW, "shown, counted by the deck report"), _LEFT_OUT,
+       _LEFT_OUT, tag="question"),
+    _r("notebook-only", "for reading only: what the lecture says otherwise (an equation "
+       "table, a summary of errata codes)", "tag `notebook-only`",
+       _SHOWN, _SHOWN, _LEFT_OUT, _SHOWN, _SHOWN, tag="notebook-only"),
     _r("hide-input", "figure whose code is not the point", "tag `hide-input`",
        _SHOWN, (SHOW, "code collapsed"), (OUTPUT, "figure only"), _SHOWN, _SHOWN,
        tag="hide-input"),
@@ -131,6 +144,12 @@ def tags_left_out(edition):
     return {r.tag for r in ROLES if r.tag and r.action(edition) == DROP}
 
 
+def for_lecture_only(cell):
+    """A cell that is in the deck and in no reading edition (a roadmap, a question...)."""
+    return not left_out(cell, DECK) and left_out(cell, BOOK) and left_out(cell, STUDENT) \
+        and not has(cell, "notes")
+
+
 def table():
     """The README's table "One source, three editions", as markdown lines."""
     head = "| cell | marked with | " + " | ".join(HEADERS[e] for e in EDITIONS) + " |"
@@ -139,6 +158,26 @@ def table():
         lines.append(f"| {r.what} | {r.mark} | " + " | ".join(r.does[e][1] for e in EDITIONS)
                      + " |")
     return lines
+
+
+def lecture_faults(nb):
+    """Where a notebook's lecture cells break the convention: a question to the hall whose
+    next cell is not its answer (tag `lecture`, slide type `fragment`), a lecture-only cell
+    without `jupyter.source_hidden` (it would stand open in JupyterLab)."""
+    faults = []
+    cells = nb["cells"]
+    for k, cell in enumerate(cells):
+        where = f"cell {k} ({cell.get('id', '?')})"
+        if has(cell, "question"):
+            nxt = cells[k + 1] if k + 1 < len(cells) else None
+            if nxt is None or not has(nxt, "lecture") or \
+                    nxt.get("metadata", {}).get("slideshow", {}).get("slide_type") != "fragment":
+                faults.append(f"{where}: a question whose next cell is not its answer "
+                              "(tag lecture, slide_type fragment)")
+        if (has(cell, "question") or has(cell, "lecture")) and \
+                not cell.get("metadata", {}).get("jupyter", {}).get("source_hidden"):
+            faults.append(f"{where}: a lecture-only cell without jupyter.source_hidden: true")
+    return faults
 
 
 if __name__ == "__main__":

@@ -179,23 +179,85 @@ def test_figures_carry_their_alt_text(pages, soups):
     assert not missing, "alt text in the notebook but not in the book: " + ", ".join(missing)
 
 
-def test_launch_buttons_and_download(pages, soups):
+PLACEHOLDERS = re.compile(r"OWNER/|example\.(edu|com|org)|executablebooks/jupyter-book|jupyterhub\.example")
+
+
+def test_without_a_repository_no_launch_or_repository_button(pages, soups):
+    """The book in build/book is built without BOOK_REPOSITORY (as the tests run): no
+    launch or repository button, no placeholder URL, and no promise of a rocket button."""
+    if book.REPOSITORY_URL:
+        pytest.skip("built with BOOK_REPOSITORY set")
+    found = []
+    for page in pages:
+        soup = soups[page.name]
+        if soup.select(".dropdown-launch-buttons, .btn-source-repository-button, a[href*='mybinder']"):
+            found.append(f"{page.name}: a launch or repository button")
+        if PLACEHOLDERS.search(str(soup)):
+            found.append(f"{page.name}: a placeholder URL ({PLACEHOLDERS.search(str(soup)).group(0)})")
+        if "rocket" in _words(soup.select_one("article")).lower() and page.name == "index.html":
+            found.append("index.html promises a rocket button")
+    assert not found, "\n".join(found)
+
+
+def test_with_a_repository_the_launch_buttons_are_set_up():
+    config = book.book_config("https://github.com/ORG/so3-course", "https://hub.uni.example")
+    assert config["html"]["use_repository_button"] is True
+    assert config["launch_buttons"]["binderhub_url"] == book.BINDERHUB_URL
+    assert config["launch_buttons"]["jupyterhub_url"] == "https://hub.uni.example"
+    assert config["repository"]["url"] == "https://github.com/ORG/so3-course"
+    bare = book.book_config("", "https://hub.uni.example")
+    assert bare["html"]["use_repository_button"] is False
+    assert not bare["launch_buttons"]["binderhub_url"] and not bare["launch_buttons"]["jupyterhub_url"]
+    assert "rocket" not in book.landing_page([], [], "")
+    nb = read(course_notebooks()[1])
+    first = book.download_copy(nb, "01_x.ipynb", "https://github.com/ORG/so3-course").cells[0].source
+    assert "mybinder.org/v2/gh/ORG/so3-course/main?urlpath=lab/tree/notebooks/01_x.ipynb" in first
+
+
+def test_download_menu_gives_a_notebook_that_runs_and_the_course_pdf(pages, soups):
     for nb_path in course_notebooks():
         soup = soups[f"{nb_path.stem}.html"]
-        hrefs = [a.get("href", "") for a in soup.select("a")]
-        binder = [h for h in hrefs if h.startswith(book.BINDERHUB_URL)]
-        hub = [h for h in hrefs if h.startswith(book.JUPYTERHUB_URL)]
-        assert binder and f"notebooks/{nb_path.name}" in unquote(binder[0]), binder
-        assert hub and "git-pull" in hub[0] and "repo=" in hub[0], hub
-        repo = book.REPOSITORY_URL.rstrip("/")
-        assert repo.split("github.com/")[1] in binder[0] and repo in unquote(hub[0])
+        menu = soup.select_one(".dropdown-download-buttons")
+        assert menu is not None, f"{nb_path.name}: no download menu"
+        hrefs = [a.get("href", "") for a in menu.select("a")]
         download = f"_sources/{nb_path.name}"
-        assert download in hrefs, f"{nb_path.name}: no download link"
-        # the notebook itself, as in the repository: every cell of the book's copy, and
-        # the speaker notes that the page leaves out
+        assert download in hrefs, f"{nb_path.name}: no .ipynb download"
+        assert "course.pdf" in hrefs, f"{nb_path.name}: the course PDF is not in the download menu"
+        assert not menu.select("[onclick*='print']"), f"{nb_path.name}: '.pdf' prints the web page"
         given = read(pages[0].parent / download)
-        built = {c.id for c in _built_from(nb_path).cells if not c.id.startswith("course-marker")}
-        assert built <= {c.id for c in given.cells}, f"{download} is not {nb_path.name}"
+        first = given.cells[0]
+        assert first.cell_type == "markdown" and "make lab" in first.source and "so3lib" in first.source
+        for cell in given.cells:
+            assert not (book.is_hidden_test(cell) or book.is_solution(cell)
+                        or book.is_verification(cell) or book.is_speaker_note(cell)), \
+                f"{download}: cell {cell.get('id')} should not be in the download"
+        # every cell the learner works with is there, in the notebook's order
+        source = read(nb_path)
+        wanted = [c.id for c in source.cells if not (
+            book.is_hidden_test(c) or book.is_solution(c) or book.is_verification(c)
+            or book.is_speaker_note(c))]
+        assert [c.id for c in given.cells[1:]] == wanted, f"{download} is not {nb_path.name}"
+
+
+def test_licence_version_and_citation(pages, soups):
+    import tomllib
+    import yaml
+    licence = (ROOT / "LICENSE").read_text()
+    assert "BSD 3-Clause License" in licence and "Attribution 4.0 International" in licence
+    cff = yaml.safe_load((ROOT / "CITATION.cff").read_text())
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    assert cff["version"] == project["version"], "CITATION.cff and pyproject.toml disagree"
+    assert project["license"] == "BSD-3-Clause"
+    readme = (ROOT / "README.md").read_text()
+    assert "BSD 3-Clause" in readme and "CC BY 4.0" in readme
+    landing = soups["index.html"].select_one("article").get_text(" ")
+    assert f"Version {cff['version']}" in landing and str(cff["date-released"])[:4] in landing
+    for page in pages:
+        foot = soups[page.name].select_one("footer.bd-footer-content")
+        text = foot.get_text(" ") if foot else ""
+        assert "CC BY 4.0" in text and "BSD-3-Clause" in text, f"{page.name}: no licence in the footer"
+    out = pages[0].parent
+    assert (out / "LICENSE.txt").is_file() and (out / "CITATION.cff").is_file()
 
 
 def test_every_link_in_the_book_resolves(pages, soups):
@@ -209,6 +271,8 @@ def test_every_link_in_the_book_resolves(pages, soups):
             if url.scheme in ("http", "https", "mailto"):
                 continue  # the web: launch buttons, the repository, references
             target = (page.parent / unquote(url.path)).resolve() if url.path else page
+            if url.path == "course.pdf":
+                continue  # printed by `make pdf` (test_the_pdf_holds_the_whole_course checks it)
             if url.scheme or not target.is_file():
                 broken.append(f"{page.name}: {a['href']} (no such file)")
             elif url.fragment and target.suffix == ".html" and target.parent == out.resolve():
@@ -441,6 +505,9 @@ def pdf(browser, pages):
 @pytest.mark.browser
 def test_the_pdf_holds_the_whole_course(pdf):
     assert pdf.is_file() and pdf.stat().st_size > 100_000
+    published = book.OUT / "course.pdf"
+    assert published.is_file() and published.read_bytes() == pdf.read_bytes(), \
+        "the download menus link build/book/course.pdf, which is not the printed PDF"
     text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
                           text=True, check=True).stdout
     assert "Rodrigues" in text

@@ -46,13 +46,18 @@ PDF = BUILD / "course.pdf"
 DOCTREES = BUILD / "book-doctrees"
 STATIC = Path(__file__).resolve().parent / "book_static"
 
-# The one setting the launch buttons and the repository link are made from. A placeholder
-# until the course is published: set it to the course's public GitHub repository.
-REPOSITORY_URL = os.environ.get("BOOK_REPOSITORY", "https://github.com/OWNER/so3-course")
+# The one setting the launch buttons and the repository link are made from: the course's
+# public GitHub repository. Without it the book has no launch or repository button at all.
+REPOSITORY_URL = os.environ.get("BOOK_REPOSITORY", "").strip()
 BRANCH = os.environ.get("BOOK_BRANCH", "main")
-# The JupyterHub that the nbgitpuller launch button opens (placeholder as well).
-JUPYTERHUB_URL = os.environ.get("BOOK_JUPYTERHUB", "https://jupyterhub.example.edu")
+# The JupyterHub that the nbgitpuller launch button opens (only with a repository too).
+JUPYTERHUB_URL = os.environ.get("BOOK_JUPYTERHUB", "").strip()
 BINDERHUB_URL = "https://mybinder.org"
+
+ROOT = Path(__file__).resolve().parent.parent
+LICENSE = ROOT / "LICENSE"
+CITATION = ROOT / "CITATION.cff"
+CC_BY = "https://creativecommons.org/licenses/by/4.0/"
 
 MATHJAX = "vendor/mathjax3/es5/tex-chtml-full.js"  # inside the book's _static/
 SOLUTION_BEGIN = '<div class="course-solution-begin"></div>'
@@ -161,6 +166,38 @@ def learner_copy(nb, anchors=(), slugs=None):
     return nb
 
 
+def download_copy(nb, name, repository_url=REPOSITORY_URL):
+    """The notebook behind a page's .ipynb download: a first cell that says how to run it,
+    then the notebook as a learner works it, without the worked solutions (the book shows
+    them), the speaker notes, the grading asserts and the `verify` checks."""
+    import nbformat
+    from nbformat.v4 import new_markdown_cell
+    keep = [copy.deepcopy(c) for c in nb.cells
+            if not (is_speaker_note(c) or is_hidden_test(c) or is_verification(c) or is_solution(c))]
+    repository_url = (repository_url or "").strip().rstrip("/")
+    where = "the course folder"
+    binder = ""
+    if repository_url:
+        where = f"the course folder ([{repository_url}]({repository_url}))"
+        if "github.com/" in repository_url:
+            slug = repository_url.split("github.com/", 1)[1]
+            url = (f"{BINDERHUB_URL}/v2/gh/{slug}/{BRANCH}?urlpath=lab/tree/notebooks/{name}")
+            binder = (f"\n\nWith nothing installed, open it on Binder instead: [{url}]({url}) "
+                      "(a temporary session: keep your work with *File > Download*).")
+    first = new_markdown_cell(
+        "**How to run this notebook.** It imports `so3lib`, the course's own library, so it runs "
+        f"inside the course, not on its own. Get {where}, and in it run\n\n"
+        "```\nmake lab     # the first time: installs the pinned packages into .venv\n"
+        "make test    # optional: checks the library and the notebooks\n```\n\n"
+        "(Python 3.11 or newer and `make`). `make lab` opens JupyterLab on the folder "
+        f"`notebooks/`: open `{name}` there and run it top to bottom." + binder
+        + "\n\nThe worked solutions are not in this file: each is under its exercise in the "
+        "course's book (*Show solution*), or in the course folder's copy of this notebook.")
+    first.metadata["tags"] = ["course-how-to-run"]
+    first.id = "course-how-to-run"
+    return nbformat.from_dict({**nb, "cells": [first] + keep})
+
+
 def missing_alt(nb):
     """Indices (in the notebook) of the code cells that draw a picture without alt text."""
     found = []
@@ -206,14 +243,114 @@ def _questions():
     return found
 
 
-def landing_page(paths, nbs):
+_NUMBER_WORDS = {"an": 1, "a": 1, "one": 1, "two": 2, "three": 3, "four": 4, "five": 5}
+
+
+def _number(word):
+    word = word.lower()
+    return float(word) if re.fullmatch(r"\d+(\.\d+)?", word) else _NUMBER_WORDS.get(word)
+
+
+def _prose(nb):
+    """The markdown a learner reads: no speaker notes, solutions, grading or checks."""
+    return [c for c in nb.cells if c.cell_type == "markdown" and not (
+        is_speaker_note(c) or is_solution(c) or is_hidden_test(c) or is_verification(c))]
+
+
+def chapter_time(nb):
+    """(minutes, how it is known) for a notebook. Its own text first ("two lessons of about
+    an hour each", "about 90 minutes"); else an estimate from its length: 60 words of
+    mathematical prose a minute, half a minute per code cell, 10 minutes per exercise."""
+    text = "\n".join(c.source for c in _prose(nb))
+    m = re.search(r"\b(\w+) (?:lessons|parts|sessions) of about (an?|one|two|\d+) (hours?|minutes) each",
+                  text, re.I)
+    if m and _number(m.group(1)) and _number(m.group(2)):
+        unit = 60 if m.group(3).startswith("hour") else 1
+        return int(_number(m.group(1)) * _number(m.group(2)) * unit), "its own text"
+    m = re.search(r"\b(?:takes|take|lasts|is) about (an?|one|two|three|\d+(?:\.\d+)?) (hours?|minutes)\b",
+                  text, re.I)
+    if m and _number(m.group(1)):
+        return int(_number(m.group(1)) * (60 if m.group(2).startswith("hour") else 1)), "its own text"
+    words = sum(len(re.findall(r"[A-Za-z]+", c.source)) for c in _prose(nb))
+    code = sum(1 for c in nb.cells if c.cell_type == "code" and not (
+        is_solution(c) or is_hidden_test(c) or is_verification(c)))
+    exercises = sum(1 for c in nb.cells if "answer" in _tags(c))
+    minutes = words / 60 + code / 2 + 10 * exercises
+    return max(15, int(round(minutes / 15)) * 15), "estimated"
+
+
+def format_time(minutes):
+    h, m = divmod(int(minutes), 60)
+    if not h:
+        return f"{m} min"
+    return f"{h} h" + (f" {m} min" if m else "")
+
+
+_GOALS = re.compile(r"^#{2,4}\s+What you will learn", re.I)
+_NEEDS = re.compile(r"^#{2,4}\s+What you need first|\*\*You need first:?\*\*", re.I | re.M)
+
+
+def chapter_front(nb):
+    """The book's copy of a chapter begins with its time and its goals: a line with the time
+    goes after the title cell, followed by the notebook's own "What you will learn" and
+    "What you need first" cells (moved up when other text stood before them)."""
+    from nbformat.v4 import new_markdown_cell
+    cells = list(nb.cells)
+    if not cells:
+        return nb
+    minutes, how = chapter_time(nb)
+    front = [c for c in cells[1:6] if c.cell_type == "markdown" and (
+        _GOALS.match(c.source) or _NEEDS.search(c.source))]
+    rest = [c for c in cells[1:] if not any(c is f for f in front)]
+    note = " (estimated from its length)" if how == "estimated" else ""
+    card = new_markdown_cell(f"**Time:** about {format_time(minutes)}{note}."
+                             + (" **Goals** and what you need first:" if front else ""))
+    card.metadata["tags"] = ["course-chapter-time"]
+    card.id = "course-chapter-time"
+    nb = copy.copy(nb)
+    nb.cells = [cells[0], card] + front + rest
+    return nb
+
+
+def _who_for():
+    """The bullets of notebook 00's "Who it is for"."""
+    start = NOTEBOOKS / "00_start_here.ipynb"
+    if start.exists():
+        for c in _prose(read(start)):
+            if re.match(r"^#{1,4}\s+Who it is for", c.source):
+                return "\n".join(l for l in c.source.splitlines()[1:] if l.strip())
+    return "- You know matrices, the cross product, Taylor series and a little NumPy."
+
+
+def landing_page(paths, nbs, repository_url=REPOSITORY_URL):
     questions = _questions()
-    items = []
-    for p, nb in zip(paths, nbs):
-        q = questions.get(p.stem)
-        items.append(f"1. [{label(nb, p)}]({p.name})" + (f": {q}" if q else ""))
-    contents = "\n".join(items)
+    c = citation()
+    rows = ["| | chapter | the question it answers | time |", "|---|---|---|---|"]
+    total = 0
+    estimated = False
+    for n, (p, nb) in enumerate(zip(paths, nbs), 1):
+        q = questions.get(p.stem, "Start here: the course in one page, the set-up, the notation."
+                          if p.stem.startswith("00") else "")
+        minutes, how = chapter_time(nb)
+        total += minutes
+        estimated = estimated or how == "estimated"
+        star = "*" if how == "estimated" else ""
+        rows.append(f"| {n} | [{label(nb, p)}]({p.name}) | {q} | {format_time(minutes)}{star} |")
+    path = "\n".join(rows)
+    footnote = ("\n\n\\* estimated from the chapter's length (60 words of prose a minute, half a "
+                "minute per code cell, 10 minutes per exercise); the other times are the "
+                "chapter's own.") if estimated else ""
+    first = next((p for p in paths if p.name.startswith("00")), paths[0] if paths else None)
+    one = next((p for p in paths if p.name.startswith("01")), first)
+    log = next((p for p in paths if p.name.startswith("04")), one)
+    errata = next((p for p in paths if not p.name[0].isdigit()), None)
+    launch = ("- **With nothing installed**: the rocket button at the top of a notebook's page "
+              "opens it on Binder.\n" if (repository_url or "").strip() else "")
+    edition = (f"Version {c['version']}, {_long_date(c['date'])}. " if c["version"] else "")
     return rf"""# {BOOK_TITLE}
+
+{edition}By {re.sub(r"^The ", "the ", c['authors'])}. The text and figures are under [CC BY 4.0]({CC_BY}), the code under
+BSD-3-Clause (<a href="LICENSE.txt">LICENSE</a>; to cite the course: <a href="CITATION.cff">CITATION.cff</a>).
 
 An open course on the two maps between angular velocities and rotation matrices. Spinning
 at a constant angular velocity $\omega$ for a time $\tau$ gives the rotation
@@ -223,31 +360,51 @@ R(\omega, \tau) = e^{{\tau\hat\omega}} = I + \frac{{\sin\theta}}{{\theta}}\,\tau
   + \frac{{1-\cos\theta}}{{\theta^2}}\,(\tau\hat\omega)^2,
 $$
 
-where $\theta = \lVert\omega\rVert\,\lvert\tau\rvert$ is the angle turned, and the logarithm goes back from $R$ to $\omega$. The course derives both from the power
-series, computes them in floating point without losing digits, takes the logarithm at
-exactly 180°, and shows where its two sources (a set of lecture notes and Gallier's
-textbook) go wrong.
+where $\theta = \lVert\omega\rVert\,\lvert\tau\rvert$ is the angle turned, and the logarithm goes back from $R$ to $\omega$.
 
-This book is the course read end to end: every notebook with its outputs, as it was last
-run. Worked solutions sit behind a *Show solution* button under each exercise: try the
-exercise first.
+## What you will learn
 
-## The notebooks, in order
+- why every power of a cross-product matrix reduces to two, and how that turns the power
+  series of $e^{{\tau\hat\omega}}$ into Rodrigues' formula;
+- how to evaluate it in floating point without losing digits near $0$, and what the plane
+  (complex numbers) says about it;
+- how to take the logarithm of a rotation at every angle, a half-turn (180°) included, and
+  check it against a 50-digit reference;
+- how to interpolate, integrate and average rotations, and differentiate $\exp$ and $\log$;
+- where the course's two sources (a set of lecture notes and Gallier's textbook) go wrong.
 
-Take them in order: each builds on the ones before it.
+## What you need first
 
-{contents}
+{_who_for()}
 
-## How to run them
+## The path, with the time each chapter takes
 
-- **With nothing installed**: on a notebook's page, the rocket button at the top opens it
-  on Binder or on your institution's JupyterHub.
-- **On your own machine** (Python 3.11 or newer, and `make`): in the course folder, run
+Take the chapters in order: each builds on the ones before it. In all, about
+{format_time(total)} of reading, running and exercises.
+
+{path}{footnote}
+
+## Where to start
+
+- **New to the course**: [{label(nbs[paths.index(first)], first) if first else ''}]({first.name if first else ''}),
+  then [{label(nbs[paths.index(one)], one) if one else ''}]({one.name if one else ''}) and onwards.
+- **You know the hat map and Rodrigues' formula** and want the logarithm at 180°:
+  [{label(nbs[paths.index(log)], log) if log else ''}]({log.name if log else ''}).
+""" + (f"""- **You teach from the sources** and want their mistakes:
+  [{label(nbs[paths.index(errata)], errata)}]({errata.name}).
+""" if errata else "") + rf"""
+Each chapter begins with its time, its goals and what it needs first. Worked solutions sit
+folded under each exercise (*Show solution*): try the exercise first.
+
+## How to run the notebooks
+
+{launch}- **On your own machine** (Python 3.11 or newer, and `make`): in the course folder, run
   `make lab`. The first time it installs the pinned packages into `.venv`; then JupyterLab
   opens `notebooks/00_start_here.ipynb`. Run each notebook top to bottom, then change the
   numbers and run it again.
-- **Download** a notebook (the download button at the top of its page) to run it in your
-  own Jupyter.
+- **A single notebook**: the download menu at the top of its page gives the `.ipynb`; its
+  first cell says how to run it (it needs the course's library, `so3lib`). The same menu
+  gives the whole course as one PDF for paper, <a href="course.pdf">course.pdf</a>.
 - **Exercises** check themselves: write your answer in the empty cell, run the checker
   below it, and read what it says.
 """
@@ -263,32 +420,66 @@ def _plotly_js():
     return js if js.is_file() else None
 
 
+def citation():
+    """The course's version, release date and authors, from CITATION.cff."""
+    data = yaml.safe_load(CITATION.read_text()) if CITATION.exists() else {}
+    authors = ", ".join(a.get("name") or " ".join(filter(None, [a.get("given-names"),
+                                                                a.get("family-names")]))
+                        for a in data.get("authors", [])) or "the course authors"
+    return {"version": str(data.get("version", "")), "date": str(data.get("date-released", "")),
+            "authors": authors}
+
+
+def _long_date(iso):
+    import datetime
+    try:
+        d = datetime.date.fromisoformat(iso)
+    except ValueError:
+        return iso
+    return f"{d.day} {d.strftime('%B')} {d.year}"
+
+
+def footer_html():
+    """The licence line under every page."""
+    c = citation()
+    edition = f"Version {c['version']}, {_long_date(c['date'])}. " if c["version"] else ""
+    return (f'<p class="course-licence">{edition}The course text and figures are under '
+            f'<a href="{CC_BY}">CC BY 4.0</a>, the code (so3lib, the notebooks\' code cells, the '
+            f'tools) under BSD-3-Clause: see <a href="LICENSE.txt">LICENSE</a>; to cite it, '
+            f'<a href="CITATION.cff">CITATION.cff</a>. '
+            f'The whole course as one PDF: <a href="course.pdf">course.pdf</a>.</p>')
+
+
 def book_config(repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
-    """Jupyter Book's _config.yml, as a dict."""
+    """Jupyter Book's _config.yml, as a dict. Without a repository URL the book carries no
+    launch buttons and no repository link (a button that goes nowhere is worse than none)."""
+    repository_url = (repository_url or "").strip()
+    launch = {"notebook_interface": "jupyterlab", "binderhub_url": "", "jupyterhub_url": "",
+              "thebe": False, "colab_url": "", "deepnote_url": ""}
+    if repository_url:
+        launch["binderhub_url"] = BINDERHUB_URL
+        launch["jupyterhub_url"] = (jupyterhub_url or "").strip()
     return {
         "title": BOOK_TITLE,
-        "author": "the course authors",
-        "copyright": "2026",
+        "author": citation()["authors"],
+        "copyright": citation()["date"][:4] or "2026",
         "only_build_toc_files": True,
-        "exclude_patterns": ["_build", "**.ipynb_checkpoints", "course_static"],
+        "exclude_patterns": ["_build", "**.ipynb_checkpoints", "course_static", "course_extra"],
         "execute": {"execute_notebooks": "off"},
         "parse": {
             "myst_enable_extensions": ["dollarmath", "amsmath", "colon_fence"],
             "myst_dmath_double_inline": True,
         },
         "html": {
-            "use_repository_button": True,
+            "use_repository_button": bool(repository_url),
             "use_issues_button": False,
             "use_edit_page_button": False,
             "use_download_button": True,
             "home_page_in_navbar": False,  # the book's title above the contents leads home
             "use_multitoc_numbering": False,
+            "extra_footer": footer_html(),
         },
-        "launch_buttons": {
-            "notebook_interface": "jupyterlab",
-            "binderhub_url": BINDERHUB_URL,
-            "jupyterhub_url": jupyterhub_url,
-        },
+        "launch_buttons": launch,
         "repository": {"url": repository_url, "path_to_book": "notebooks", "branch": BRANCH},
         "latex": {"use_jupyterbook_latex": False},
         "sphinx": {
@@ -298,11 +489,12 @@ def book_config(repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
                 "mathjax_path": MATHJAX,
                 "mathjax3_config": {
                     "tex": {"tags": "ams"},
-                    "chtml": {"displayOverflow": "overflow"},
                     "options": {"menuOptions": {"settings": {"assistiveMml": True}}},
                 },
                 "html_static_path": ["course_static"],
+                "html_extra_path": ["course_extra"],
                 "html_css_files": ["course.css"],
+                "html_js_files": ["course.js"],
                 "html_sourcelink_suffix": "",
                 "html_show_search_summary": False,  # summaries fetch each page: not from file://
                 "html_last_updated_fmt": None,
@@ -344,15 +536,23 @@ def prepare(src=SOURCE, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB
             old.unlink()  # a notebook renamed or removed
     anchors, slugs = heading_anchors(nbs), heading_slugs(paths, nbs)
     for p, nb in zip(paths, nbs):
-        _write_if_changed(src / p.name, nbformat.writes(learner_copy(nb, anchors, slugs)) + "\n")
-    _write_if_changed(src / "index.md", landing_page(paths, nbs))
+        _write_if_changed(src / p.name, nbformat.writes(
+            chapter_front(learner_copy(nb, anchors, slugs))) + "\n")
+    _write_if_changed(src / "index.md", landing_page(paths, nbs, repository_url))
     plotly = _plotly_js()
     # Not "_static": Jupyter Book would load every .js file in that folder into every page.
     static = src / "course_static"
     if (src / "_static").exists():
         shutil.rmtree(src / "_static")
     static.mkdir(parents=True, exist_ok=True)
-    _write_if_changed(static / "course.css", (STATIC / "course.css").read_bytes())
+    for f in ("course.css", "course.js"):
+        _write_if_changed(static / f, (STATIC / f).read_bytes())
+    # copied as they are to the book's top folder: the licence and the citation, which the
+    # footer links
+    extra = src / "course_extra"
+    for f, name in ((LICENSE, "LICENSE.txt"), (CITATION, "CITATION.cff")):
+        if f.exists():
+            _write_if_changed(extra / name, f.read_bytes())
     vendor.install(static / "vendor", ["mathjax3"])
     svg = static / "vendor" / "mathjax3" / "es5" / "tex-svg-full.js"  # the decks' renderer
     if svg.exists():
@@ -461,8 +661,9 @@ _SPLIT_TAG = re.compile(r"\\begin\{split\}((?:(?!\\end\{split\}).)*?)\s*\\tag\{(
                         r"((?:(?!\\end\{split\}).)*?)\\end\{split\}", re.S)
 
 
-def postprocess(out):
-    """The HTML pass: solution blocks; the download button gives the notebook itself. A
+def postprocess(out, repository_url=REPOSITORY_URL):
+    """The HTML pass: solution blocks; the download button gives the notebook (download_copy)
+    and the course's PDF. A
     page this pass (the same script) already went over, and that Sphinx has not written
     since, is left as it is: OUT/.postprocessed.json holds each page's size and time."""
     import hashlib
@@ -510,6 +711,19 @@ def postprocess(out):
         for div in soup.select('div.plotly-graph-div[role="img"]'):
             div["role"] = "figure"
             changed = True
+        # The theme's ".pdf" prints the web page (window.print()): the course's PDF instead.
+        for button in soup.select("button.btn-download-pdf-button"):
+            link = soup.new_tag("a", attrs={
+                "class": "btn btn-sm btn-download-pdf-button dropdown-item", "href": "course.pdf",
+                "title": "The whole course as one PDF, for paper", "data-bs-toggle": "tooltip",
+                "data-bs-placement": "left"})
+            for child in list(button.children):
+                link.append(child.extract())
+            text = link.select_one(".btn__text-container")
+            if text is not None:
+                text.string = "course.pdf"
+            button.replace_with(link)
+            changed = True
         # myst-nb's collapsed input: its summary's text ("Show code cell source") is its name.
         for summary in soup.select("summary[aria-label]"):
             del summary["aria-label"]
@@ -523,10 +737,12 @@ def postprocess(out):
             write_atomic(page, str(soup))
         done[page.name] = [page.stat().st_size, page.stat().st_mtime_ns]
     write_atomic(record, json.dumps(done, indent=1, sort_keys=True))
+    import nbformat
     sources = out / "_sources"
     for p in course_notebooks():
         if (sources / p.name).exists():
-            _write_if_changed(sources / p.name, p.read_bytes())
+            _write_if_changed(sources / p.name, nbformat.writes(
+                download_copy(read(p), p.name, repository_url)) + "\n")
 
 
 def build(out=OUT, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
@@ -538,9 +754,18 @@ def build(out=OUT, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL)
     key = inputs_key(SOURCE)
     if not (_built(out, "html", key) and all(p.is_file() for p in pages)):
         sphinx(SOURCE, out, "html")
-        postprocess(out)
+        postprocess(out, repository_url)
         _record_built(out, "html", key)
+    publish_pdf(out)
     return pages
+
+
+def publish_pdf(out=OUT, pdf=PDF):
+    """Every page's download menu links course.pdf, next to the pages: `make pdf` prints it
+    and puts a copy there (so the folder travels whole); a later `make book` keeps it."""
+    pdf = Path(pdf)
+    if pdf.exists() and Path(out).is_dir():
+        _write_if_changed(Path(out) / "course.pdf", pdf.read_bytes())
 
 
 # ---------------------------------------------------------------------------------------
@@ -705,9 +930,11 @@ def build_pdf(pdf=PDF, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_
     key = inputs_key(SOURCE)
     if not _built(PRINT_OUT, "singlehtml", key):
         sphinx(SOURCE, PRINT_OUT, "singlehtml")
-        postprocess(PRINT_OUT)
+        postprocess(PRINT_OUT, repository_url)
         _record_built(PRINT_OUT, "singlehtml", key)
-    return print_pdf(PRINT_OUT, pdf, browser)
+    printed = print_pdf(PRINT_OUT, pdf, browser)
+    publish_pdf(OUT, printed)
+    return printed
 
 
 def report_missing_alt():

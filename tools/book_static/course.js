@@ -1,0 +1,1 @@
+/* The course book's own script (tools/book.py): see the comments below. */

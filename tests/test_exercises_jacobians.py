@@ -24,6 +24,7 @@ from so3lib import (
 from so3lib.exercises.jacobians import (
     check_body_jacobian,
     check_C_stable,
+    check_gauss_newton_step,
     check_ominus_jacobians,
 )
 
@@ -86,7 +87,8 @@ def c_stable(t):
 
 CHECKERS = [(check_ominus_jacobians, "ominus_jacobians"),
             (check_C_stable, "C_stable"),
-            (check_body_jacobian, "body_jacobian")]
+            (check_body_jacobian, "body_jacobian"),
+            (check_gauss_newton_step, "gauss_newton_step")]
 
 
 @pytest.mark.parametrize("checker, name", CHECKERS)
@@ -253,7 +255,7 @@ def test_messages_never_show_the_expected_value():
 
 def test_module_exposes_no_answer():
     assert sorted(ex.__all__) == ["check_C_stable", "check_body_jacobian",
-                                  "check_ominus_jacobians"]
+                                  "check_gauss_newton_step", "check_ominus_jacobians"]
     public = [n for n in dir(ex) if not n.startswith("_") and callable(getattr(ex, n))]
     assert set(public) <= set(ex.__all__) | {"Feedback", "exp", "hat", "never_raises", "math"}
 
@@ -374,3 +376,76 @@ def test_C_stable_short_series_across_0_01_is_one_fault():
     fb = check_C_stable(short)
     says_for(fb, "C_stable", "series used too far")
     assert "Both small and large" not in fb.message and "0.1666" not in fb.message
+
+
+# --- 6.4 capstone: one Gauss-Newton step ---------------------------------------------
+
+def _gn_step(phi, a, b, jacobian=right_jacobian):
+    """phi + Delta of (6.14), the residual's Jacobian (6.13) with ``jacobian`` in J_r's place."""
+    R = exp(phi)
+    r = (a @ R.T - b).ravel()
+    J = np.vstack([-R @ hat(x) @ jacobian(phi) for x in a])
+    return phi - np.linalg.solve(J.T @ J, J.T @ r)
+
+
+def _no_jr(phi, a, b):
+    return _gn_step(phi, a, b, jacobian=lambda p: np.eye(3))
+
+
+def _oplus_step(phi, a, b):
+    R = exp(phi)
+    r = (a @ R.T - b).ravel()
+    J = np.vstack([-R @ hat(x) for x in a])
+    return log(so3lib.oplus(R, -np.linalg.solve(J.T @ J, J.T @ r)))
+
+
+def _lstsq_step(phi, a, b):
+    R = exp(phi)
+    J = np.vstack([-R @ hat(x) @ right_jacobian(phi) for x in a])
+    return phi + np.linalg.lstsq(J, -(a @ R.T - b).ravel(), rcond=None)[0]
+
+
+def test_gauss_newton_step_right_answers_pass():
+    assert check_gauss_newton_step(_gn_step)
+    assert check_gauss_newton_step(_lstsq_step)
+    assert check_gauss_newton_step(lambda p, a, b: list(_gn_step(p, a, b)))
+
+
+@pytest.mark.parametrize("answer, pattern", [
+    (_no_jr, r"J_r\(phi\) is missing"),
+    (lambda p, a, b: 2 * p - _gn_step(p, a, b), "wrong sign"),
+    (lambda p, a, b: _gn_step(p, a, b) - p, "returned the step Delta itself"),
+    (_oplus_step, r"R \(\+\) Delta of section 7"),
+    (lambda p, a, b: _gn_step(p, a, b, jacobian=left_jacobian), r"J_l = J_r\^T"),
+    (lambda p, a, b: _gn_step(p, a, b)[:2], r"shape \(3,\)"),
+    (lambda p, a, b: np.full(3, np.nan), "NaN"),
+    (lambda p, a, b: p + 0.5 * (_gn_step(p, a, b) - p), "do(es)? not minimise"),
+])
+def test_gauss_newton_step_mistakes(answer, pattern):
+    says_for(check_gauss_newton_step(answer), "gauss_newton_step", pattern)
+
+
+def test_gauss_newton_step_problems_repel_the_step_without_J_r():
+    """The checker's claim: on its problems with answers turned by 2.5 to 3 rad, twelve
+    steps without J_r from phi = 0 stay more than 1e-3 rad from Kabsch's rotation, while
+    the step with J_r reaches it (so the runs tell the two apart)."""
+    for theta, axis in ex._PROBLEMS_64:
+        a, b, R_star = ex._wahba_64(theta, axis)
+        U, _, Vt = np.linalg.svd(b.T @ a)                # Kabsch, (6.15), computed here
+        assert np.abs(R_star - U @ np.diag([1.0, 1.0, np.linalg.det(U @ Vt)]) @ Vt).max() < 1e-14
+        p_jr, p_no = np.zeros(3), np.zeros(3)
+        for _ in range(12):
+            p_jr, p_no = _gn_step(p_jr, a, b), _no_jr(p_no, a, b)
+        assert so3lib.angle(R_star.T @ exp(p_jr)) < 1e-9
+        if theta >= 2.5:
+            assert so3lib.angle(R_star.T @ exp(p_no)) > 1e-3, theta
+
+
+def test_gauss_newton_step_messages_never_show_the_expected_value():
+    for answer in (_no_jr, lambda p, a, b: p + 0.5 * (_gn_step(p, a, b) - p)):
+        fb = repr(check_gauss_newton_step(answer))
+        assert "expected" not in fb.lower()
+        for theta, axis in ex._PROBLEMS_64:
+            a, b, R_star = ex._wahba_64(theta, axis)
+            for digits in (2, 3, 4):
+                assert np.array2string(log(R_star), precision=digits) not in fb

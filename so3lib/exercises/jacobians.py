@@ -9,6 +9,8 @@ checker                     the exercise
                             relative at every ``t``, 0 included, without ``so3lib.C``
 ``check_body_jacobian``     6.3 ``body_jacobian(phi, b)``, the 3x3 derivative of
                             :math:`e^{-\hat\varphi} b` with respect to :math:`\varphi`
+``check_gauss_newton_step`` 6.4 ``gauss_newton_step(phi, a, b)``, one Gauss-Newton step
+                            (6.14) with :math:`J_r` for Wahba's problem
 ==========================  ==============================================================
 
 Each checker returns a :class:`so3lib.exercises.Feedback` and never raises. The function
@@ -28,10 +30,15 @@ import numpy as np
 
 from .. import jacobians as _jacobians
 from ..jacobians import C as _C_lib
+from ..jacobians import ominus as _ominus
+from ..jacobians import right_jacobian as _right_jacobian
+from ..so3 import angle as _angle
 from ..so3 import exp, hat
+from ..so3 import log as _log
 from . import _NOT_ANSWERED, Feedback, _code_names, _fail, _fmt, _ok, never_raises
 
-__all__ = ["check_C_stable", "check_body_jacobian", "check_ominus_jacobians"]
+__all__ = ["check_C_stable", "check_body_jacobian", "check_gauss_newton_step",
+           "check_ominus_jacobians"]
 
 _H = 1e-5           # step of the centred differences: truncation ~h^2, rounding ~eps/h
 
@@ -500,3 +507,116 @@ def check_body_jacobian(func):
                               "= exp(-J_r delta) exp(phi)^T; expand to first order.")
     return _ok(name, f"It matches 50-digit differences of exp(phi)^T b within 1e-12 on "
                      f"{len(cases)} cases.")
+
+
+# --- 6.4 capstone: one Gauss-Newton step on SO(3) --------------------------------------
+
+#: Wahba problems (turn of the answer, its axis): 1 rad, and three beyond 2.33 rad, where
+#: the step without J_r is repelled by the answer (notebook 06, section 7)
+_PROBLEMS_64 = ((1.0, (0.0, 1.0, 1.0)), (2.5, (1.0, 0.0, 1.0)), (2.8, (1.0, 2.0, -2.0)),
+                (3.0, (-2.0, 1.0, 2.0)))
+_STEPS_64 = 12      # Gauss-Newton from phi = 0: with J_r each run is at rounding level by 10
+
+
+def _wahba_64(theta, axis):
+    """(a, b, R_star): ten directions b in the world, a = R^T b + noise 1e-3 measured in
+    the body, and the least-squares rotation R_star from one SVD (Kabsch, (6.15))."""
+    rng = np.random.default_rng(64)
+    n = np.array(axis) / np.linalg.norm(axis)
+    b = rng.standard_normal((10, 3))
+    a = b @ exp(theta * n) + 1e-3 * rng.standard_normal((10, 3))
+    U, _, Vt = np.linalg.svd(b.T @ a)
+    return a, b, U @ np.diag([1.0, 1.0, np.linalg.det(U @ Vt)]) @ Vt
+
+
+def _residual_64(phi, a, b):
+    return (a @ exp(phi).T - b).ravel()
+
+
+def _solves_normal_equations(J, r, d, tol=1e-6):
+    """True if ``d`` minimises |r + J d| to within ``tol`` of the size of a step:
+    |J^T (r + J d)| small against |J^T J| (|d| + 1e-3)."""
+    lhs = float(np.linalg.norm(J.T @ (r + J @ d)))
+    return lhs <= tol * float(np.linalg.norm(J.T @ J, 2)) * (float(np.linalg.norm(d)) + 1e-3)
+
+
+def _diagnose_64(phi, got, a, b):
+    """What the learner's step ``got`` (from ``phi``) is, if it is a known slip."""
+    R = exp(phi)
+    r = _residual_64(phi, a, b)
+    J_noJr = np.vstack([-R @ hat(x) for x in a])            # derivative at delta = 0
+    J_Jr = J_noJr @ _right_jacobian(phi)
+    if _solves_normal_equations(J_noJr, r, got - phi, 1e-8):
+        return ("The step solves the normal equations with -exp(phi) hat(a_i) alone: J_r(phi) "
+                "is missing from (6.13). Added to phi, that step is J_r Delta too short or "
+                "turned, and near a turn of the answer above 2.33 rad it is repelled.")
+    if _solves_normal_equations(J_Jr, r, phi - got, 1e-8):
+        return ("The step has the wrong sign (or the Jacobian has: the derivative of "
+                "exp(phi) a is -exp(phi) hat(a) J_r(phi)). Delta = -(J^T J)^-1 J^T r.")
+    if _solves_normal_equations(J_Jr, r, got, 1e-8):
+        return "It returned the step Delta itself; return the new phi, phi + Delta."
+    with contextlib.suppress(ValueError):
+        if _solves_normal_equations(J_noJr, r, _ominus(exp(got), R), 1e-8):
+            return ("That is the step R (+) Delta of section 7, which needs no J_r; this "
+                    "exercise asks for phi + Delta with the Jacobian (6.13), J_r included.")
+    J_Jl = J_noJr @ _right_jacobian(phi).T
+    if _solves_normal_equations(J_Jl, r, got - phi, 1e-8):
+        return ("It uses J_l = J_r^T: the perturbation of (6.5) is on the right, "
+                "exp(phi + d) ~ exp(phi) exp(J_r d), so J_r belongs here.")
+    return None
+
+
+@never_raises("gauss_newton_step")
+def check_gauss_newton_step(func):
+    r"""Exercise 6.4 (capstone): ``gauss_newton_step(phi, a, b)`` returns
+    :math:`\varphi + \Delta`, with :math:`\Delta` the Gauss-Newton step (6.14) for the
+    residuals :math:`r_i = e^{\hat\varphi}a_i - b_i` of Wahba's problem (6.12).
+
+    Checked by its defining property, not against a stored step: from three points of
+    each of four problems (answers turned by 1, 2.5, 2.8 and 3 rad), :math:`\Delta`
+    solves the normal equations :math:`J^T(r + J\Delta) = 0` with :math:`J` from centred
+    differences of the residuals in floats (to 1e-6 of a step); then twelve steps from
+    :math:`\varphi = 0` reach the least-squares rotation (one SVD, Kabsch's (6.15)) to
+    1e-9 rad on every problem, where the step without :math:`J_r` is repelled."""
+    name = "gauss_newton_step"
+    fb = _start(func, name)
+    if fb is not None:
+        return fb
+    h = 1e-6            # centred differences of r in floats: error ~ h^2 + eps/h ~ 1e-10
+    for theta, axis in _PROBLEMS_64:
+        a, b, R_star = _wahba_64(theta, axis)
+        phi_star = _log(R_star)
+        for label, phi in (("phi = 0", np.zeros(3)), ("phi halfway to the answer", phi_star / 2),
+                           ("phi near the answer", phi_star + np.array([0.02, -0.01, 0.03]))):
+            shown = f"{label} (on the problem whose answer turns by {theta:g} rad)"
+            got, fb = _call(func, name, (phi, a, b), shown, (3,))
+            if fb is not None:
+                return fb
+            r = _residual_64(phi, a, b)
+            J = np.column_stack([(_residual_64(phi + h * e, a, b)
+                                  - _residual_64(phi - h * e, a, b)) / (2 * h) for e in np.eye(3)])
+            if not _solves_normal_equations(J, r, got - phi):
+                extra = _diagnose_64(phi, got, a, b)
+                return _fail(name, f"From {shown}, the step got - phi does not minimise the "
+                                   "linearised |r + J Delta|^2 (the normal equations "
+                                   "J^T (r + J Delta) = 0 fail)."
+                                   + (f" {extra}" if extra else ""),
+                             "r stacks exp(phi) a_i - b_i (3N numbers), J stacks (6.13), "
+                             "-exp(phi) hat(a_i) J_r(phi) (3N x 3); Delta = -(J^T J)^-1 J^T r.")
+    for theta, axis in _PROBLEMS_64:
+        a, b, R_star = _wahba_64(theta, axis)
+        phi = np.zeros(3)
+        for _ in range(_STEPS_64):
+            phi, fb = _call(func, name, (phi, a, b), "one of its own iterates", (3,))
+            if fb is not None:
+                return fb
+        if float(_angle(R_star.T @ exp(phi))) > 1e-9:
+            return _fail(name, f"Each step solves the normal equations, but {_STEPS_64} steps "
+                               f"from phi = 0 on the problem whose answer turns by {theta:g} "
+                               "rad end more than 1e-9 rad from the least-squares rotation. "
+                               "Is the step computed at a fixed phi rather than at the phi "
+                               "it is given?")
+    return _ok(name, f"Each step solves the normal equations of (6.14) from 12 points of "
+                     f"four problems, and {_STEPS_64} steps from phi = 0 reach the least-"
+                     "squares rotation within 1e-9 rad, also where the answer turns by 2.5 to "
+                     "3 rad and the step without J_r is repelled.")

@@ -13,7 +13,7 @@ from checker_support import says_for as _says
 
 import so3lib
 from so3lib.exercises import rodrigues
-from so3lib.exercises.rodrigues import check_B, check_naive_B_digits, check_partial_sum
+from so3lib.exercises.rodrigues import check_B, check_naive_B_digits, check_partial_sum, check_printed_ex
 
 
 def test_module_holds_no_answer():
@@ -381,3 +381,38 @@ def test_exercise_2_3_says_how_many_points_the_checker_tries():
     assert f"at {n} values of $x$" in _notebook_02_prose()
     assert f"at {n} values of x" in repr(check_B(lambda x: 0.5 - x * x / 24 if abs(x) < 1e-4
                                                  else 2 * (math.sin(x / 2) / x) ** 2))
+
+
+# ------------------------------------------------------------- exercise 2.2: check_printed_ex
+
+def _printed_ex_by_hand():
+    """The notes' printed line on e_x for omega = (0, 0, pi/2), tau = 1, worked by hand:
+    e_x + e_y + (2/pi) e_y."""
+    return np.array([1.0, 1.0 + 2.0 / math.pi, 0.0])
+
+
+def test_printed_ex_accepts_the_hand_computation():
+    fb = check_printed_ex(_printed_ex_by_hand())
+    assert fb.passed, fb.message
+    assert fb.message.startswith("Correct")
+
+
+@pytest.mark.parametrize("answer, words", [
+    (np.array([0.0, 1.0, 0.0]), "corrected (2.6)"),
+    (np.array([1.0, 2.0, 0.0]), "divided by |omega|^2"),
+    (np.array([1.0, 1.0 + math.pi / 2, 0.0]), "division was left out"),
+    (np.array([1.0, 1.0, 0.5]), "z component"),
+    (np.array([0.5, 1.0, 0.0]), "x component"),
+    (np.array([1.0, 1.2, 0.0]), "y component"),
+])
+def test_printed_ex_names_the_slip(answer, words):
+    fb = check_printed_ex(answer)
+    assert not fb.passed and words in fb.message, fb.message
+    assert "1.63" not in fb.message and "0.636" not in fb.message   # never the value looked for
+
+
+@pytest.mark.parametrize("answer", [..., None, "1, 1.6, 0", [1.0, 2.0], np.full(3, np.nan),
+                                    [[1.0, 0.0, 0.0]], object()])
+def test_printed_ex_never_raises(answer):
+    fb = check_printed_ex(answer)
+    assert not fb.passed and fb.message.startswith("Not yet")

@@ -5,21 +5,24 @@ exercise       the learner writes                          checker
 =============  ==========================================  ============================
 2.1            ``partial_sum(omega, tau, terms)``: the     :func:`check_partial_sum`
                first ``terms`` terms of the series
-2.2            ``x_8_digits``: the ``x`` at which the      :func:`check_naive_B_digits`
+2.2            ``printed_ex``: where the notes' printed    :func:`check_printed_ex`
+               last line sends ``e_x`` (by hand)
+2.3            ``x_8_digits``: the ``x`` at which the      :func:`check_naive_B_digits`
                naive ``(1 - cos x)/x^2`` keeps only 8
                correct digits (predicted, then measured)
-2.3            ``B_stable(x) = (1 - cos x)/x^2``,          :func:`check_B`
+2.4            ``B_stable(x) = (1 - cos x)/x^2``,          :func:`check_B`
                accurate for ``|x| <= 1e10``,
                ``B(0) = 1/2``
 =============  ==========================================  ============================
 
 Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises, and none
-prints the value it is looking for. 2.1 and 2.3 compare with the library's own
-``exp_series`` and ``B`` (the course's library, not an answer key); 2.2 measures the
+prints the value it is looking for. 2.1 and 2.4 compare with the library's own
+``exp_series`` and ``B`` (the course's library, not an answer key); 2.2 evaluates the
+notes' printed line itself (the property asked for); 2.3 measures the
 property asked for (the naive formula's error near the learner's ``x``, against a
 high-precision reference). When an answer is wrong, the checker compares it with the
 usual mistakes (one term too many, an element-by-element power, the naive ``1 - cos``,
-a Taylor polynomial used too far out) and names the one it matches. 2.1 and 2.3 rule out
+a Taylor polynomial used too far out) and names the one it matches. 2.1 and 2.4 rule out
 calling ``exp_series`` and ``B``: the checkers notice such a call by name, and under any
 other name (an alias, ``getattr``) while they run the learner's function.
 """
@@ -34,7 +37,7 @@ from ..so3 import hat
 from . import Feedback, _calls_watched, never_raises
 from .hat_map import _NOT_ANSWERED, _call, _fail, _shape_problem
 
-__all__ = ["check_B", "check_naive_B_digits", "check_partial_sum"]
+__all__ = ["check_B", "check_naive_B_digits", "check_partial_sum", "check_printed_ex"]
 
 
 def _close(got, alt, atol=1e-9, rtol=1e-9):
@@ -152,7 +155,7 @@ def check_partial_sum(func):
                           f"{len(_SUM_INPUTS)} test inputs, from 1 term to 9.")
 
 
-# ---------------------------------------------------------------- exercise 2.2
+# ---------------------------------------------------------------- exercise 2.3
 
 def _naive_B_error(xs):
     """Relative error of the naive float64 ``(1 - cos x)/x^2`` at each ``x`` of ``xs``.
@@ -186,7 +189,7 @@ _DIGITS_HINT = ("Predict first: cos x is rounded to a float, off by up to half a
 
 @never_raises("x_8_digits")
 def check_naive_B_digits(answer):
-    r"""Exercise 2.2: the ``x`` near which the naive :math:`(1 - \cos x)/x^2` keeps 8 digits.
+    r"""Exercise 2.3: the ``x`` near which the naive :math:`(1 - \cos x)/x^2` keeps 8 digits.
 
     Measures the property itself: the worst relative error of the naive formula in float64
     over 201 points of ``[x/1.25, 1.25 x]``, against a high-precision reference, must lie
@@ -227,7 +230,7 @@ def check_naive_B_digits(answer):
                        f"(about {digits:.1f} correct digits): {side}.", _DIGITS_HINT)
 
 
-# ---------------------------------------------------------------- exercise 2.3
+# ---------------------------------------------------------------- exercise 2.4
 
 # Simplest first; the small angles come before x = 0 so that the naive formula is caught
 # by its visible failure (0 instead of 0.5 at 1e-8) before its division by zero; the
@@ -305,7 +308,7 @@ def _diagnose_B(got, x, ref):
 
 @never_raises("B_stable")
 def check_B(func):
-    r"""Exercise 2.3: ``func(x)`` must give :math:`B(x) = (1 - \cos x)/x^2` to 1e-12 relative.
+    r"""Exercise 2.4: ``func(x)`` must give :math:`B(x) = (1 - \cos x)/x^2` to 1e-12 relative.
 
     Compares with the library's ``so3lib.B`` at ``x`` from 1 down to 1e-8, then ``x = 0``
     (where ``B = 1/2``), the middle range 0.01 to 0.45 (where a Taylor polynomial kept
@@ -346,3 +349,70 @@ def check_B(func):
     return Feedback(True, f"Correct: {name}. It is accurate to 1e-12 (relative) at "
                           f"{len(_B_INPUTS)} values of x from 0 to 6.3e9, among them every 1% "
                           "where Taylor branches end and next to multiples of 2 pi.")
+
+
+# ---------------------------------------------------------------- exercise 2.2
+
+#: The quarter turn of exercise 2.2: omega = (0, 0, pi/2) rad/s for tau = 1 s.
+QUARTER_OMEGA = np.array([0.0, 0.0, math.pi / 2])
+
+_PRINTED_HINT = ("Work term by term on e_x: hat(omega) e_x = omega x e_x, |omega| = pi/2, "
+                 "sin(pi/2) = 1 and 1 - cos(pi/2) = 1. The printed line has hat(omega) in "
+                 "its third term where hat(omega)^2 belongs.")
+
+
+def _printed_line(omega, tau):
+    """The notes' printed last line, ``I + sin(|w| tau)/|w| W + (1 - cos(|w| tau))/|w|^2 W``
+    (W = hat(omega): the square missing), as the learner is asked to evaluate it."""
+    w, W = float(np.linalg.norm(omega)), hat(omega)
+    return np.eye(3) + math.sin(w * tau) / w * W + (1 - math.cos(w * tau)) / w ** 2 * W
+
+
+@never_raises("printed_ex")
+def check_printed_ex(answer):
+    r"""Exercise 2.2: where the notes' printed line sends :math:`e_x` for the quarter turn
+    :math:`\omega = (0, 0, \pi/2)`, :math:`\tau = 1`.
+
+    Evaluates the printed line (hat where the square belongs) on :math:`e_x`, the property
+    asked for, and compares to 1e-9. A wrong answer is compared with the usual slips (the
+    corrected formula's :math:`Re_x`, the square put back, a lost :math:`1/\lVert\omega\rVert`)
+    and the message names the slip; it never prints the vector looked for.
+    """
+    name = "printed_ex"
+    if answer is None or answer is Ellipsis:
+        return _fail(name, _NOT_ANSWERED)
+    problem = _shape_problem(answer, (3,), "printed_ex")
+    if problem:
+        return _fail(name, problem + " It should be a vector of 3 floats.", _PRINTED_HINT)
+    got = np.asarray(answer, dtype=float)
+    W = hat(QUARTER_OMEGA)
+    w = float(np.linalg.norm(QUARTER_OMEGA))
+    e_x = np.array([1.0, 0.0, 0.0])
+    if _close(got, _printed_line(QUARTER_OMEGA, 1.0) @ e_x):
+        return Feedback(True, f"Correct: {name}. The printed line sends e_x off the unit "
+                              "circle: longer than 1, so it is not a rotation.")
+    slips = [
+        ((np.eye(3) + W / w + W @ W / w ** 2) @ e_x,
+         "That is R e_x, where the corrected (2.6) sends it. The exercise asks for the "
+         "printed line, whose third term has hat(omega), not hat(omega)^2."),
+        ((np.eye(3) + W / w + W / w) @ e_x,
+         "The third term is divided by |omega|^2, not by |omega|: hat(omega) carries one "
+         "factor |omega| = pi/2, so one is left over in the denominator."),
+        ((np.eye(3) + W / w + W) @ e_x,
+         "The third term divides by |omega|^2 = (pi/2)^2: it looks as if that division "
+         "was left out."),
+        ((np.eye(3) + W + W / w ** 2) @ e_x,
+         "The second term is sin(|omega| tau)/|omega| hat(omega): it looks as if the "
+         "division by |omega| was left out there."),
+    ]
+    for alt, why in slips:
+        if _close(got, alt):
+            return _fail(name, why, _PRINTED_HINT)
+    if abs(got[2]) > 1e-9:
+        return _fail(name, "Every term maps e_x into the x-y plane (the turn is about z): "
+                           "the z component is 0.", _PRINTED_HINT)
+    if not math.isclose(got[0], 1.0, abs_tol=1e-9):
+        return _fail(name, "The x component is wrong: only I sends e_x to something with an "
+                           "x component; hat(omega) e_x points along y.", _PRINTED_HINT)
+    return _fail(name, "The x and z components are right; the y component is not.",
+                 _PRINTED_HINT)

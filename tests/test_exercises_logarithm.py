@@ -331,3 +331,142 @@ def test_log_at_pi_watches_the_private_helpers():
 
     _says(check_log_at_pi(by_log_one), "It calls so3lib.so3._log_one, a logarithm")
     _says(check_log_at_pi(by_log_block), "It calls so3lib.so3._log_block, a logarithm")
+
+
+# ----------------------------------------------------------------------- exercise 4.5
+
+from so3lib.exercises.logarithm import LOG_TOL_45, check_principal_log  # noqa: E402
+
+
+def _vee_skew(R):
+    return np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+
+
+def _principal_log(R):
+    """(4.9), (4.11), (4.15)-(4.16) in NumPy: the exercise's solution."""
+    v = _vee_skew(R)
+    s, c = np.linalg.norm(v) / 2, (np.trace(R) - 1) / 2
+    theta = np.arctan2(s, c)
+    if c >= 0:
+        return np.zeros(3) if s == 0 else theta / (2 * s) * v
+    B = (R + R.T) / 2 - c * np.eye(3)
+    j = int(np.argmax(np.diag(B)))
+    n = B[:, j] / np.linalg.norm(B[:, j])
+    return theta * (n if n @ v >= 0 else -n)
+
+
+def _skew_only(R):
+    """(4.11) everywhere, with the atan2 angle and a branch at 0."""
+    v = _vee_skew(R)
+    s, c = np.linalg.norm(v) / 2, (np.trace(R) - 1) / 2
+    return np.zeros(3) if s == 0 else np.arctan2(s, c) / (2 * s) * v
+
+
+def _acos_angle(R, clip=True, guard=True):
+    """The notes' arccos angle with (4.11) below pi/2 and (4.15)-(4.16) above."""
+    c = (np.trace(R) - 1) / 2
+    with np.errstate(all="ignore"):
+        theta = np.arccos(np.clip(c, -1, 1) if clip else c)
+        v = _vee_skew(R)
+        if c >= 0:
+            if guard and theta == 0:
+                return np.zeros(3)
+            return theta / (2 * np.sin(theta)) * v
+    B = (R + R.T) / 2 - c * np.eye(3)
+    j = int(np.argmax(np.diag(B)))
+    n = B[:, j] / np.linalg.norm(B[:, j])
+    return theta * (n if n @ v >= 0 else -n)
+
+
+def _no_sign(R):
+    c = (np.trace(R) - 1) / 2
+    if c >= 0:
+        return _principal_log(R)
+    B = (R + R.T) / 2 - c * np.eye(3)
+    j = int(np.argmax(np.diag(B)))
+    n = B[:, j] / np.linalg.norm(B[:, j])
+    return np.arctan2(np.linalg.norm(_vee_skew(R)) / 2, c) * n * (-1 if n[0] > 0.7 else 1)
+
+
+def _no_zero_branch(R):
+    v = _vee_skew(R)
+    s, c = np.linalg.norm(v) / 2, (np.trace(R) - 1) / 2
+    with np.errstate(all="ignore"):
+        return _principal_log(R) if c < 0 else np.arctan2(s, c) / (2 * s) * v
+
+
+def test_principal_log_right_answers_pass():
+    fb = check_principal_log(_principal_log)
+    assert fb and repr(fb).startswith("Correct: principal_log"), repr(fb)
+    # either sign at a half-turn
+    assert check_principal_log(lambda R: -_principal_log(R) if np.array_equal(R, R.T)
+                               else _principal_log(R))
+    # the solution meets its own tolerance with a wide margin on every case
+    from so3lib.exercises.logarithm import _log_inputs
+    for kind, _, R, p in _log_inputs():
+        got = _principal_log(R)
+        if kind in ("exp", "id"):
+            assert np.abs(got - p).max() <= LOG_TOL_45 / 16 * min(1.0, np.linalg.norm(p) or 1.0)
+
+
+def test_principal_log_so3lib_log_is_refused_but_would_pass():
+    # so3lib.log is a correct answer (the property test does not compute one itself) ...
+    from so3lib.exercises import logarithm as ex
+    assert check_principal_log.__wrapped__ is not None
+    _says(check_principal_log(so3lib.log), "It calls log, a logarithm")
+    _says(check_principal_log(lambda R: so3lib.angle(R) * np.ones(3)), "It calls angle")
+    assert ex.LOG_TOL_45 == LOG_TOL_45
+
+
+@pytest.mark.parametrize("student, says", [
+    (None, "No answer yet"),
+    (3, "Expected a function"),
+    (_not_written, "Not written yet"),
+    (lambda R: 1 / 0, "raised ZeroDivisionError"),
+    (lambda R: None, "returned None"),
+    (lambda R: np.zeros((3, 3)), r"shape \(3, 3\)"),
+    (_no_zero_branch, "the identity(.|\\n)*0/0"),
+    (lambda R: _acos_angle(R, guard=False), "the identity(.|\\n)*0/0"),
+    (_acos_angle, "1e-9 rad(.|\\n)*rounds to exactly 1"),
+    (_skew_only, "pi - 1e-4 rad(.|\\n)*not accurate near pi"),
+    (lambda R: _acos_angle(R) if np.trace(R) > 1 else _principal_log(R),
+     "1e-9 rad(.|\\n)*rounds to exactly 1"),
+    (lambda R: _principal_log(R) if np.trace(R) > -0.5 else _acos_angle(R),
+     "pi - 1e-4 rad(.|\\n)*not accurate near pi"),
+    (_no_sign, "wrong sign(.|\\n)*\\(4\\.16\\)"),
+    (lambda R: -_principal_log(R), "rotation by 1 rad(.|\\n)*off by a sign"),
+    (lambda R: 2 * _principal_log(R), "exp of your answer is not R"),
+    (lambda R: _principal_log(R) - 2 * np.pi * _principal_log(R)
+     / max(np.linalg.norm(_principal_log(R)), 1e-300) if np.trace(R) < 0 else _principal_log(R),
+     "more than pi|off by"),
+    (lambda R: np.ones(3) if not np.any(R - np.eye(3)) else _principal_log(R),
+     "the zero vector, \\(4\\.10\\)"),
+])
+def test_principal_log_wrong_answers_get_a_message(student, says):
+    _says(check_principal_log(student), says)
+
+
+def test_principal_log_zero_and_nan_at_an_exact_half_turn():
+    def zero_at_pi(R):
+        return np.zeros(3) if np.array_equal(R, R.T) and np.trace(R) < 0 else _principal_log(R)
+
+    def nan_at_pi(R):
+        return np.full(3, np.nan) if np.array_equal(R, R.T) and np.trace(R) < 0 \
+            else _principal_log(R)
+
+    _says(check_principal_log(zero_at_pi), "exact half-turn(.|\\n)*A zero at a half-turn")
+    _says(check_principal_log(nan_at_pi), "exact half-turn(.|\\n)*NaN or inf(.|\\n)*symmetric")
+
+
+def test_principal_log_messages_do_not_show_the_answer():
+    for student in (_skew_only, _acos_angle, _no_sign, lambda R: np.ones(3)):
+        text = repr(check_principal_log(student))
+        assert "expected" not in text.lower().replace("expected a rotation vector", ""), text
+        assert "1.5708" not in text, text
+
+
+def test_principal_log_never_raises_and_leaves_no_profiler():
+    import sys
+    for student in (lambda R: R, lambda R: "x", lambda R: [1, 2], object()):
+        assert not check_principal_log(student)
+    assert sys.getprofile() is None

@@ -12,10 +12,15 @@ exercise       the learner writes                          checker
 4.3            ``halfturn_axis(R)``, the unit axis of a    :func:`check_halfturn_axis`
                rotation by pi (either sign), without
                calling a logarithm
-4.4            ``log_at_pi(n)``, the logarithm that        :func:`check_log_at_pi`
-               ``so3lib.log`` returns for the half-turn
-               ``2 n n^T - I``, predicted without
-               calling a logarithm
+4.4            ``log_at_pi(n)``, the one of pi n and       :func:`check_log_at_pi`
+               -pi n that the half-turn construction
+               (4.14) returns for ``2 n n^T - I``
+               (``so3lib.log`` uses it), predicted
+               without calling a logarithm
+4.5            ``principal_log(R)``, the whole             :func:`check_principal_log`
+               logarithm, (4.9), (4.11) and
+               (4.15)-(4.16), accurate near 0, near
+               pi and at pi, without calling one
 =============  ==========================================  ==============================
 
 Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises. A checker
@@ -34,11 +39,13 @@ from . import Feedback, _calls_watched, check_function, never_raises
 
 __all__ = [
     "AXIS_TOL_43",
+    "LOG_TOL_45",
     "ROTATION_TOL_41",
     "check_all_logs",
     "check_halfturn_axis",
     "check_log_at_pi",
     "check_nan_rotation",
+    "check_principal_log",
     "notes_recipe",
 ]
 
@@ -485,8 +492,9 @@ def _logarithms_called(func, *args):
 
 @never_raises("log_at_pi")
 def check_log_at_pi(func):
-    r"""Exercise 4.4: ``func(n)`` must predict ``so3lib.log(2 n n^T - I)``, the logarithm
-    so3lib picks among :math:`\pm\pi n` for an exactly symmetric half-turn, without
+    r"""Exercise 4.4: ``func(n)`` must predict which of :math:`\pm\pi n` the half-turn
+    construction (4.14) gives for the exactly symmetric half-turn ``2 n n^T - I``: the
+    logarithm ``so3lib.log`` returns there (it uses (4.14)), without
     calling a logarithm (so3lib's ``log`` or ``angle``, their private helpers in
     ``so3lib.so3``, or SciPy's rotations): the checker watches the calls.
 
@@ -508,8 +516,9 @@ def check_log_at_pi(func):
         if called:
             return Feedback(False, f"Not yet: {name}. It calls {called[0]}, a "
                                    "logarithm: the exercise asks you to predict the answer "
-                                   "from n alone.\nHint: read the rule in help(log), under "
-                                   "Notes, and write it with NumPy.")
+                                   "from n alone.\nHint: in (4.14), column j of R + I is "
+                                   "2 n_j n; which sign is left after dividing it by its "
+                                   "length?")
         if got is None:
             return Feedback(False, f"Not yet: {name}. It returned None for {label}: is the "
                                    "`return` missing?")
@@ -524,7 +533,7 @@ def check_log_at_pi(func):
     wrong = [(n, a) for n, a in zip(_PI_AXES, outs)
              if np.abs(a - log(_halfturn(n))).max() > 1e-10]
     if not wrong:
-        return Feedback(True, f"Correct: {name}. It predicts so3lib's choice of sign for "
+        return Feedback(True, f"Correct: {name}. It predicts the sign (4.14) gives for "
                               f"{len(_PI_AXES)} half-turns, without calling a logarithm.")
     n, a = wrong[0]
     if min(np.abs(a - np.pi * n).max(), np.abs(a + np.pi * n).max()) > 1e-10:
@@ -532,19 +541,196 @@ def check_log_at_pi(func):
                                "which is not +-pi n, so not a logarithm of the half-turn "
                                "at all.\nHint: the answer is pi n or -pi n; the rule picks "
                                "the sign.")
-    rule = ("so3lib.log returns the one of +-pi n whose largest component (in absolute "
-            "value; the first, if two are equally large) is positive.")
+    rule = ("(4.14) picks j where R[j, j] = 2 n_j^2 - 1 is largest, so |n_j| is the "
+            "largest component (the first, if two are equally large), and divides column j, "
+            "2 n_j n, by its length 2 |n_j|: what sign does that leave on component j?")
     if all(np.allclose(o, np.pi * m, atol=1e-10) for o, m in zip(outs, _PI_AXES)):
         hint = ("You returned pi n as given. Both +pi n and -pi n are logarithms of the "
                 "half-turn, and the matrix 2 n n^T - I does not know which n you started "
-                "from, so so3lib picks one by a rule. " + rule)
+                "from, so (4.14) returns one of them by its own arithmetic. " + rule)
     elif all(np.allclose(o, np.pi * m * np.sign(m[np.flatnonzero(np.abs(m) > 1e-12)[0]]),
                          atol=1e-10) for o, m in zip(outs, _PI_AXES)):
         hint = ("You made the first nonzero component positive. That is a fine convention, "
-                "but so3lib looks at the largest component (in absolute value; the first "
-                "of equally large ones), the one the half-turn construction divides by.")
+                "but (4.14) divides by the column of the largest diagonal entry, so its "
+                "sign is fixed by the largest component (in absolute value; the first of "
+                "equally large ones).")
     else:
         hint = rule
     return Feedback(False, f"Not yet: {name}. For n = {_fmt(n)} it returned {_fmt(a)}: a "
-                           "logarithm of the half-turn, but not the sign so3lib picks."
+                           "logarithm of the half-turn, but not the sign (4.14) gives."
                            f"\nHint: {hint}")
+
+
+# --------------------------------------------------------------------------- 4.5
+
+#: Exercise 4.5: how far the learner's logarithm may be from the rotation vector put in,
+#: relative to ``min(1, theta)``: 1e-13 is some 450 eps, far above the few eps of a
+#: NumPy version of (4.9), (4.11) and (4.15)-(4.16), and far below the errors of the
+#: formulas that fail: (4.11) at pi - 1e-6 is off by about 1e-10, an arccos angle there
+#: by about 2e-10, and at 1e-9 rad arccos gives the angle 0.
+LOG_TOL_45 = 1e-13
+
+
+def _unit(v):
+    v = np.asarray(v, dtype=float)
+    return v / np.linalg.norm(v)
+
+
+# (kind, what the label says, phi put in or the axis of an exact half-turn). The kinds:
+# "exp": R = exp(phi), whose principal logarithm is phi (|phi| < pi); "pi": the exactly
+# symmetric half-turn 2 n n^T - I, whose logarithms are +-pi n; "noisy": exp(pi n), a
+# computed half-turn whose skew part is rounding noise, so either sign is right.
+_LOG_CASES = [
+    ("exp", "a rotation by 1 rad", 1.0 * _unit([0.3, -0.4, 1.2])),
+    ("id", "the identity", np.zeros(3)),
+    ("exp", "a rotation by 1e-5 rad", 1e-5 * _unit([2.0, -1.0, 2.0])),
+    ("exp", "a rotation by 1e-9 rad", 1e-9 * _unit([-0.5, 0.7, 0.3])),
+    ("exp", "a rotation by 1e-12 rad", 1e-12 * _unit([1.0, 1.0, -1.0])),
+    ("exp", "a rotation by 2.5 rad", 2.5 * _unit([-1.1, 0.4, 0.8])),
+    ("exp", "a rotation by pi - 1e-4 rad", (np.pi - 1e-4) * _unit([0.3, -0.5, 0.8])),
+    ("exp", "a rotation by pi - 1e-6 rad", (np.pi - 1e-6) * _unit([-0.6, 0.2, 0.7])),
+    ("exp", "a rotation by pi - 1e-10 rad", (np.pi - 1e-10) * _unit([0.8, 0.1, -0.5])),
+    ("pi", "an exact half-turn", np.array([0.0, 0.0, 1.0])),
+    ("pi", "an exact half-turn", _unit([1.0, 1.0, 0.0])),
+    ("pi", "an exact half-turn", _unit([1.0, 2.0, 3.0])),
+    ("pi", "an exact half-turn", np.array([0.0, 0.6, -0.8])),
+    ("noisy", "a computed half-turn, exp(pi n)", _unit([0.3, -0.5, 0.8])),
+]
+
+
+def _log_inputs():
+    """(kind, label, R, phi or n) for each case: the label names the input, never its
+    logarithm."""
+    out = []
+    for kind, what, p in _LOG_CASES:
+        if kind == "pi":
+            R = _halfturn(p)
+        elif kind == "noisy":
+            R = exp(np.pi * p)
+        else:
+            R = exp(p)
+        shown = (np.round(R, 4) + 0.0).tolist()
+        label = what if kind in ("exp", "id") else f"{what}, R = {shown}"
+        out.append((kind, label, R, p))
+    return out
+
+
+@never_raises("principal_log")
+def check_principal_log(func):
+    r"""Exercise 4.5 (the whole logarithm): ``func(R)`` must return the principal
+    logarithm of the rotation ``R``, a vector :math:`\varphi` with
+    :math:`e^{\hat\varphi} = R` and :math:`\lVert\varphi\rVert \le \pi`, accurate at every
+    angle, without calling a logarithm (so3lib's ``log`` or ``angle``, their helpers, or
+    SciPy's rotations: the checker watches the calls).
+
+    Each test rotation is built from the rotation vector it must give back: ``exp(phi)``
+    with :math:`\lVert\varphi\rVert < \pi` (from 1e-12 rad to :math:`\pi - 10^{-10}`), the
+    identity, exact half-turns :math:`2nn^T - I` (either of :math:`\pm\pi n`) and a
+    computed one, ``exp(pi n)`` (either sign: its skew part is rounding noise). The answer
+    must be within :data:`LOG_TOL_45` times :math:`\min(1, \theta)` of that vector.
+    Recognises the usual mistakes: 0/0 at the identity, the arccos angle that rounds to 0
+    below about 2e-8 rad, the skew part's 0 (or NaN) at a half-turn, the axis from the
+    skew part near pi, the arccos angle near pi, the missing sign test (4.16), a sign
+    error and an answer longer than pi.
+    """
+    name = "principal_log"
+    if func is None or func is Ellipsis or not callable(func):
+        return check_function(func, None, [], name)
+    for kind, label, R, p in _log_inputs():
+        (got, fail), called = _logarithms_called(_call, func, name, label, R)
+        if fail is not None:
+            return fail
+        if called:
+            return Feedback(False, f"Not yet: {name}. It calls {called[0]}, a logarithm: the "
+                                   "exercise asks you to write the logarithm yourself, from "
+                                   "(4.9), (4.11) and (4.15)-(4.16).")
+        a = _as_float(got)
+        if a is None or a.shape != (3,):
+            shape = "something that is not numbers" if a is None else f"shape {a.shape}"
+            return Feedback(False, f"Not yet: {name}. For {label} it returned {shape}; "
+                                   "expected a rotation vector of shape (3,).")
+        if not np.isfinite(a).all():
+            if kind == "id":
+                hint = ("At R = I both s and theta are 0, so theta / (2 s) (or theta / (2 sin "
+                        "theta)) is 0/0. Log I = 0 needs its own branch: return 0 when the "
+                        "skew part is exactly 0 and c > 0.")
+            elif kind == "exp" and np.linalg.norm(p) < 1e-7:
+                hint = ("Below about 2e-8 rad, c = (tr R - 1)/2 rounds to exactly 1, so an "
+                        "angle from arccos is 0 and theta / (2 sin theta) is 0/0. Take the "
+                        "angle from atan2(s, c), (4.9): s is still accurate.")
+            elif kind in ("pi", "noisy"):
+                hint = ("At a half-turn the skew part is 0 (or rounding noise) and c can round "
+                        "just below -1, where arccos is NaN: take the angle from atan2, (4.9), "
+                        "and for c < 0 the axis from the symmetric part, (4.15), which is "
+                        "large there.")
+            else:
+                hint = "Look for a division by a quantity that is 0 for this rotation."
+            return Feedback(False, f"Not yet: {name}. For {label} it returned {_fmt_any(a)}, "
+                                   f"with NaN or inf.\nHint: {hint}")
+        length = float(np.linalg.norm(a))
+        if kind == "id":
+            if a.any():
+                return Feedback(False, f"Not yet: {name}. For {label} it returned "
+                                       f"{_fmt_any(a)}: the principal logarithm of I is the "
+                                       "zero vector, (4.10).")
+            continue
+        if length > np.pi * (1 + 1e-15):
+            return Feedback(False, f"Not yet: {name}. For {label} it returned {_fmt_any(a)}, "
+                                   f"of length {length:.6g}, more than pi: not the principal "
+                                   "logarithm.\nHint: with theta = atan2(s, c) and s >= 0, "
+                                   "theta lies in [0, pi] and theta n is never longer.")
+        if kind == "exp":
+            theta = float(np.linalg.norm(p))
+            scale = min(1.0, theta)
+            err = float(np.abs(a - p).max())
+            if err <= LOG_TOL_45 * scale:
+                continue
+            near_pi = theta > 3.0
+            if not a.any():
+                hint = ("A zero for a rotation that turns: below about 2e-8 rad c = (tr R - "
+                        "1)/2 rounds to exactly 1, so an angle from arccos is 0. Take the "
+                        "angle from atan2(s, c), (4.9).")
+            elif np.abs(a + p).max() <= max(LOG_TOL_45 * scale, 1e-6 * scale) and near_pi:
+                hint = ("The right axis, with the wrong sign: the symmetric part gives n only "
+                        "up to its sign (n n^T is the same for -n). Fix it with (4.16): "
+                        "n . (R - R^T)^vee = 2 sin theta >= 0.")
+            elif np.abs(a + p).max() <= 1e-6 * scale:
+                hint = ("It is off by a sign: (R - R^T)^vee = 2 sin theta n, with R[2, 1] - "
+                        "R[1, 2] first, not R^T - R.")
+            elif near_pi and err < 1e-3:
+                hint = ("Close, but not accurate near pi. An axis from the skew part divides "
+                        "a small R - R^T by a small 2 sin theta, and an angle from arccos is "
+                        "ill-conditioned there, (4.8). For c < 0 take the axis from the "
+                        "symmetric part, (4.15), the sign from (4.16), the angle from atan2.")
+            elif err < 1e-3 * scale:
+                hint = ("Close, but it has lost digits. Take the angle from atan2(s, c), "
+                        "(4.9), and use the same s in theta / (2 s) of (4.11).")
+            else:
+                hint = ("exp of your answer is not R. The logarithm is theta n: theta = "
+                        "atan2(s, c) from (4.9), and theta / (2 s) (R - R^T)^vee, (4.11), for "
+                        "c >= 0.")
+            rel = " relative to the angle" if theta < 1 else ""
+            return Feedback(False, f"Not yet: {name}. For {label} it returned {_fmt_any(a)}, "
+                                   f"off by {err / scale:.1e}{rel} (allowed: "
+                                   f"{LOG_TOL_45:g}).\nHint: {hint}")
+        # a half-turn: +pi n or -pi n (for exp(pi n), +-fl(pi) n)
+        size = np.pi if kind == "pi" else float(np.linalg.norm(np.pi * p))
+        err = min(float(np.abs(a - size * p).max()), float(np.abs(a + size * p).max()))
+        if err <= LOG_TOL_45:
+            continue
+        if not a.any():
+            hint = ("A zero at a half-turn: there the skew part R - R^T is exactly 0 (and "
+                    "the float pi's sine is 1.2e-16, not 0), so (4.11) returns 0 without a "
+                    "warning. For c < 0 take the axis from the symmetric part, (4.15).")
+        else:
+            hint = ("At a half-turn the skew part holds no information (0, or rounding "
+                    "noise): the axis must come from the symmetric part, (1/2)(R + R^T) - c I "
+                    "= (1 - c) n n^T, (4.15): its column with the largest diagonal entry, "
+                    "normalised.")
+        return Feedback(False, f"Not yet: {name}. For {label} it returned {_fmt_any(a)}, "
+                               "which is not a logarithm of it: +pi n and -pi n are, for its "
+                               f"axis n.\nHint: {hint}")
+    return Feedback(True, f"Correct: {name}. It gives the principal logarithm to within "
+                          f"{LOG_TOL_45:g} (relative below 1 rad) on {len(_LOG_CASES)} "
+                          "rotations, from 1e-12 rad to exact half-turns, without calling a "
+                          "logarithm.")

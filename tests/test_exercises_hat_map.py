@@ -14,8 +14,8 @@ from checker_support import says_for as _says
 import so3lib
 from so3lib.exercises import hat_map
 from so3lib.exercises.hat_map import (
-    check_fifth_power,
     check_power_coefficients,
+    check_power_of_i_plus_hat,
     check_split,
 )
 
@@ -64,64 +64,63 @@ def test_split_wrong_answers_get_a_message(student, pattern):
     _says(check_split(student), "split", pattern)
 
 
-# ------------------------------------------------------------------ 1.2 fifth power
+# ------------------------------------------------------------------ 1.2 (I + hat(a))^4
 
-def test_fifth_power_right_answer_passes():
-    assert check_fifth_power(196)
-    assert check_fifth_power(np.float64(14.0) ** 2)
+I4 = "(c0, c1, c2) for (I + hat(a))^4"
+RIGHT = (1, 1 * 4 - 4 * 14, 6 - 14)          # I + 4 H + 6 H^2 + 4 H^3 + H^4, Lemma twice
+
+
+def test_power_of_i_plus_hat_right_answers_pass():
+    for answer in (RIGHT, list(RIGHT), np.array(RIGHT, dtype=float), (1.0, -52.0, -8.0)):
+        fb = check_power_of_i_plus_hat(answer)
+        assert fb and repr(fb).startswith("Correct: (c0, c1, c2)"), repr(fb)
+
+
+def test_power_of_i_plus_hat_answer_is_the_matrix_power():
+    # the property the checker tests, with SciPy's expm-free route: (I + H)^4 by products
+    H = so3lib.hat([1.0, 2.0, 3.0])
+    P = np.eye(3) + H
+    c0, c1, c2 = RIGHT
+    assert np.array_equal(P @ P @ P @ P, c0 * np.eye(3) + c1 * H + c2 * H @ H)
 
 
 @pytest.mark.parametrize("answer, pattern", [
     (None, "No answer yet"),
     (..., "No answer yet"),
-    ([196, 196], r"shape \(2,\); it should be one number"),
-    (float("nan"), "NaN or inf"),
-    (-196, "wrong sign"),
-    (-14, "factor of hat\\(a\\)\\^3"),
-    (14 ** 4, "power of \\|a\\|"),
-    (14 ** 3, "power of \\|a\\|"),
-    (100, "is not hat\\(a\\)\\^5(.|\n)*Split hat\\(a\\)\\^5(.|\n)*How many uses"),
-    (195.99, "is not hat\\(a\\)\\^5(.|\n)*close, but(.|\n)*whole number"),
-    ("196x", "not a number"),
-    ("196", "text \\(str\\), not a number(.|\n)*without quotes"),
-    (196 + 0j, "complex number; c is real"),
-    (196 * so3lib.hat([1, 2, 3]), "that matrix is right(.|\n)*number c itself"),
-    (-5 * so3lib.hat([1, 2, 3]), "not hat\\(a\\)\\^5"),
+    ((1, ..., 3), "still `...`"),
+    ("1, -52, -8", "text \\(str\\)(.|\n)*without quotes"),
+    ((1, 2), r"shape \(2,\)"),
+    (5, r"shape \(\)"),
+    ((1, np.nan, 2), "NaN or inf"),
+    ((1 + 0j, 2, 3), "complex"),
+    (np.eye(3), "3x3 matrix, but it is not"),
+    (np.linalg.matrix_power(np.eye(3) + so3lib.hat([1, 2, 3]), 4), "that matrix is right"),
+    ((1, 0, -14), "I \\+ hat\\(a\\)\\^4: the middle terms"),
+    ((1, -13, -13), "binomial coefficients are missing"),
+    ((1, 60, 20), "wrong sign"),
+    ((1, 4 - 4 * np.sqrt(14), 6 - np.sqrt(14)), "with \\|a\\| where it has \\|a\\|\\^2"),
+    ((1, -52, 6), "fourth power"),
+    ((1, 4, -8), "third power"),
+    ((1, -50, -8), "is not \\(I \\+ hat\\(a\\)\\)\\^4(.|\n)*Hint: I and hat\\(a\\) commute"),
+    ((1, -52.0001, -8), "close, but(.|\n)*whole numbers"),
 ])
-def test_fifth_power_wrong_answers_get_a_message(answer, pattern):
-    _says(check_fifth_power(answer), "the coefficient c", pattern)
+def test_power_of_i_plus_hat_wrong_answers_get_a_message(answer, pattern):
+    _says(check_power_of_i_plus_hat(answer), I4, pattern)
 
 
-@pytest.mark.parametrize("answer", [None, -196, -14, 14 ** 4, 100, 195.5, "x"])
-def test_fifth_power_never_prints_the_answer(answer):
-    assert "196" not in repr(check_fifth_power(answer)).replace(str(answer), "")
-
-
-@pytest.mark.parametrize("answer", [14 ** 3, 14 ** 4, 14 ** 5, 14 ** 1.5, 14 ** 2.5, 100, -14])
-def test_fifth_power_hints_do_not_state_the_factor(answer):
-    # a hint may say how to count the uses of the Lemma, not what the count gives: the
-    # factor written out (|a|^4, (|a|^2)^2, k = 2 in (1.7)) is the answer up to 14 * 14,
-    # and so is the first use done for the learner (hat(a)^5 = -|a|^2 hat(a)^3)
-    text = repr(check_fifth_power(answer))
-    for giveaway in ("|a|^4", "(|a|^2)^2", "k = 2", "|a|^(2k)", "-|a|^2 hat(a)^3"):
+@pytest.mark.parametrize("answer", [None, (1, 0, -14), (1, -13, -13), (1, 60, 20), (0, 0, 0),
+                                    (1, -50, -8), np.eye(3), "x"])
+def test_power_of_i_plus_hat_never_prints_the_answer(answer):
+    text = repr(check_power_of_i_plus_hat(answer))
+    for giveaway in ("52", "-8,", "-8)", "(1, -", "196"):
         assert giveaway not in text, text
 
 
-@pytest.mark.parametrize("answer", [0, 1, 2, 100, 195.5, -1, 1000])
-def test_fifth_power_message_measures_nothing_against_the_answer(answer):
-    # c hat(a) - hat(a)^5 is 3 (196 - c) in its largest entry: printing it (588 at c = 0)
-    # would give the answer away. Apart from the learner's own c, only the small numbers of
-    # the hints (1, 2, 3, 4, 5, 9, 14) may appear.
-    text = repr(check_fifth_power(answer)).replace(f"c = {answer:.12g}", "")
-    numbers = [float(x) for x in re.findall(r"\d+(?:\.\d+)?(?:e[+-]?\d+)?", text)]
-    assert numbers and max(numbers) <= 14, text
-
-
-def test_fifth_power_unreadable_answer_does_not_raise():
+def test_power_of_i_plus_hat_unreadable_answer_does_not_raise():
     class Weird:
         def __array__(self, *args, **kwargs):
             raise RuntimeError("cannot convert")
-    _says(check_fifth_power(Weird()), "the coefficient c", "could not be checked|not a number")
+    _says(check_power_of_i_plus_hat(Weird()), I4, "could not be checked|not three numbers")
 
 
 # ------------------------------------------------------------------ 1.3 all powers

@@ -5,8 +5,9 @@ exercise       the learner writes                         checker
 =============  =========================================  ===================================
 1.1            ``split(M) -> (S, K)``: the symmetric and  :func:`check_split`
                skew parts of a 3x3 matrix, ``M = S + K``
-1.2            ``c``, with ``hat(a)^5 = c hat(a)``        :func:`check_fifth_power`
-               for ``a = (1, 2, 3)``
+1.2            ``c = (c0, c1, c2)`` with                  :func:`check_power_of_i_plus_hat`
+               ``(I + hat(a))^4 = c0 I + c1 hat(a)
+               + c2 hat(a)^2`` for ``a = (1, 2, 3)``
 1.3            ``power_coefficients(a, p)``               :func:`check_power_coefficients`
                ``-> (c0, c1, c2)`` with
                ``hat(a)^p = c0 I + c1 hat(a) + c2 hat(a)^2``
@@ -14,8 +15,9 @@ exercise       the learner writes                         checker
 
 Every checker returns a :class:`~so3lib.exercises.Feedback` and never raises. A checker
 holds no answer: it tests the defining property of what the learner hands in (``S`` is
-symmetric, ``K`` skew and ``S + K = M``; ``c hat(a)`` equals ``hat(a)^5`` multiplied out
-with a matrix power) and never prints the value it is looking for. The checker of 1.3
+symmetric, ``K`` skew and ``S + K = M``; ``c0 I + c1 hat(a) + c2 hat(a)^2`` equals
+``(I + hat(a))^4`` multiplied out with a matrix power) and never prints the value it is
+looking for. The checker of 1.3
 also refuses code that calls a matrix route (``matrix_power``, ``funm``, ``eig``, a fit
 with ``lstsq``, ``solve`` or ``pinv``, ...), directly, through a function of the learner's
 own or under another name, since the exercise asks for the formula. When an answer is wrong it names
@@ -28,7 +30,7 @@ import numpy as np
 from ..so3 import hat
 from . import Feedback, never_raises
 
-__all__ = ["check_fifth_power", "check_power_coefficients", "check_split"]
+__all__ = ["check_power_coefficients", "check_power_of_i_plus_hat", "check_split"]
 
 _NOT_ANSWERED = ("No answer yet: replace the `...` (or `None`) with your answer and run "
                  "the cell again.")
@@ -40,7 +42,7 @@ def _fail(name, why, hint=None):
 
 
 #: The vector of exercise 1.2.
-A_FIFTH = np.array([1.0, 2.0, 3.0])
+A_12 = np.array([1.0, 2.0, 3.0])
 
 def _floats(x, shape=None):
     """``x`` as a finite float array (of ``shape``, if given), or None."""
@@ -159,62 +161,92 @@ def check_split(func):
 
 # ---------------------------------------------------------------- exercise 1.2
 
-@never_raises("the coefficient c of hat(a)^5 = c hat(a)")
-def check_fifth_power(answer):
-    r"""Exercise 1.2: the number ``c`` with :math:`\hat a^5 = c\,\hat a` for ``a = (1, 2, 3)``.
+_I_PLUS_HAT_HINT = ("I and hat(a) commute, so the binomial theorem expands (I + hat(a))^4 into "
+                    "powers hat(a)^0 to hat(a)^4, each with its binomial coefficient. Then "
+                    "the Lemma, hat(a)^3 = -|a|^2 hat(a), and the same times hat(a), bring "
+                    "the third and fourth powers down to hat(a) and hat(a)^2. Here "
+                    "|a|^2 = 1 + 4 + 9 = 14.")
 
-    Compares ``c hat(a)`` with ``hat(a)^5`` multiplied out (exact in floats: the entries
-    are integers below 2^53). Recognises the usual slips: the sign, the exponent of
-    ``|a|``, and handing in the matrix :math:`\hat a^5` (or text) instead of the number.
-    A wrong ``c`` is not measured against ``hat(a)^5``: the size of ``c hat(a) - hat(a)^5``
-    would give the answer away (at ``c = 0`` it is 3 times it).
+
+@never_raises("(c0, c1, c2) for (I + hat(a))^4")
+def check_power_of_i_plus_hat(answer):
+    r"""Exercise 1.2: ``(c0, c1, c2)`` with
+    :math:`(I + \hat a)^4 = c_0 I + c_1\hat a + c_2\hat a^2` for ``a = (1, 2, 3)``.
+
+    Compares ``c0 I + c1 hat(a) + c2 hat(a)^2`` with ``(I + hat(a))^4`` multiplied out by a
+    matrix power (exact in floats: integers below 2^53). Recognises the usual slips by
+    what the learner's combination is: ``I + hat(a)^4`` (the binomial coefficients
+    dropped), ``I + hat(a) + ... + hat(a)^4`` (all coefficients 1), the Lemma used with the
+    wrong sign, ``|a|`` in place of ``|a|^2``, and the fourth power left out; and handing in
+    a matrix, one number or text. A wrong combination is not measured against the right
+    one (the size of the difference would give the answer away).
     """
-    name = "the coefficient c of hat(a)^5 = c hat(a)"
-    H = hat(A_FIFTH)
-    H5 = np.linalg.matrix_power(H, 5)
-    n2 = float(A_FIFTH @ A_FIFTH)                      # |a|^2 = 14
-    hint = ("Split hat(a)^5 = hat(a)^3 hat(a)^2 and use the Lemma, hat(a)^3 = -|a|^2 hat(a): "
-            "each use lowers the power of hat(a) by 2 and brings a factor -|a|^2. How many "
-            "uses take hat(a)^5 down to hat(a), and what do their signs give together? "
-            "Here |a|^2 = 1 + 4 + 9 = 14.")
+    name = "(c0, c1, c2) for (I + hat(a))^4"
     if answer is None or answer is Ellipsis:
         return _fail(name, _NOT_ANSWERED)
     if isinstance(answer, (str, bytes)):
-        return _fail(name, f"The answer is text ({type(answer).__name__}), not a number: "
-                           "write the number itself, without quotes.", hint)
-    if np.iscomplexobj(answer):
-        return _fail(name, "The answer is a complex number; c is real.", hint)
+        return _fail(name, f"The answer is text ({type(answer).__name__}), not numbers: "
+                           "write the three numbers themselves, without quotes.",
+                     _I_PLUS_HAT_HINT)
     try:
-        arr = np.asarray(answer, dtype=float)
+        if any(x is Ellipsis for x in answer):
+            return _fail(name, "Some of the three numbers are still `...`.", _I_PLUS_HAT_HINT)
+    except TypeError:
+        pass
+    if np.iscomplexobj(answer):
+        return _fail(name, "The answer contains a complex number; c0, c1, c2 are real.",
+                     _I_PLUS_HAT_HINT)
+    try:
+        c = np.asarray(answer, dtype=float)
     except Exception:  # noqa: BLE001 -- a checker never raises
-        return _fail(name, f"The answer is a {type(answer).__name__}, not a number.", hint)
-    if arr.shape == (3, 3) and np.isfinite(arr).all():
-        right = np.allclose(arr, H5, rtol=1e-12, atol=0)
-        verdict = "and that matrix is right" if right else "but it is not hat(a)^5"
+        return _fail(name, f"The answer is a {type(answer).__name__}, not three numbers.",
+                     _I_PLUS_HAT_HINT)
+    H = hat(A_12)
+    H2 = H @ H
+    target = np.linalg.matrix_power(np.eye(3) + H, 4)
+    if c.shape == (3, 3):
+        right = np.allclose(c, target, rtol=1e-12, atol=0)
+        verdict = "and that matrix is right" if right else "but it is not (I + hat(a))^4"
         return _fail(name, f"You gave a 3x3 matrix, {verdict}. The exercise asks for the "
-                           "number c itself.")
-    if arr.shape != ():
-        return _fail(name, f"The answer has shape {arr.shape}; it should be one number.", hint)
-    if not np.isfinite(arr):
-        return _fail(name, "The answer is NaN or inf.", hint)
-    x = float(arr)
-    if np.allclose(x * H, H5, rtol=1e-12, atol=0):
-        return Feedback(True, f"Correct: {name}. c hat(a) equals hat(a)^5 multiplied out.")
-    if np.allclose(-x * H, H5, rtol=1e-12, atol=0):
-        hint = ("Right size, wrong sign: each use of the Lemma brings a factor "
-                "-|a|^2, and you used it twice, so the two minus signs cancel.")
-    elif np.isclose(abs(x), n2):
-        hint = ("That is (up to sign) the factor of hat(a)^3 = -|a|^2 hat(a). Apply "
-                "the Lemma once more: hat(a)^5 = hat(a)^3 hat(a)^2.")
-    elif any(np.isclose(abs(x), v) for v in (n2 ** 1.5, n2 ** 2.5, n2 ** 3, n2 ** 4, n2 ** 5)):
-        hint = ("Check the power of |a|: each use of the Lemma lowers the power of hat(a) "
-                "by 2 and brings one factor -|a|^2. How many uses take hat(a)^5 down to "
-                "hat(a)?")
-    why = f"With c = {x:.12g}, c hat(a) is not hat(a)^5 (multiplied out)."
-    if np.allclose(x * H, H5, rtol=1e-3, atol=0):
-        why += (" It is close, but the Lemma gives c exactly, as a whole number: no rounding "
-                "is needed.")
-    return _fail(name, why, hint)
+                           "three numbers c0, c1, c2 of I, hat(a) and hat(a)^2.",
+                     _I_PLUS_HAT_HINT)
+    if c.shape != (3,):
+        return _fail(name, f"The answer has shape {c.shape}; it should be three numbers, "
+                           "(c0, c1, c2).", _I_PLUS_HAT_HINT)
+    if not np.isfinite(c).all():
+        return _fail(name, "The answer contains NaN or inf.", _I_PLUS_HAT_HINT)
+
+    def combo(k):
+        return k[0] * np.eye(3) + k[1] * H + k[2] * H2
+
+    got = combo(c)
+    if np.allclose(got, target, rtol=1e-12, atol=0):
+        return Feedback(True, f"Correct: {name}. c0 I + c1 hat(a) + c2 hat(a)^2 equals "
+                              "(I + hat(a))^4 multiplied out.")
+    H3, H4 = H2 @ H, H2 @ H2
+    n2 = float(A_12 @ A_12)
+    slips = [
+        (np.eye(3) + H4, "It is I + hat(a)^4: the middle terms of the binomial expansion "
+                         "are missing. (I + X)^4 is not I + X^4."),
+        (np.eye(3) + H + H2 + H3 + H4, "It is I + hat(a) + hat(a)^2 + hat(a)^3 + hat(a)^4: "
+                                       "the binomial coefficients are missing."),
+        (np.eye(3) + 4 * H + 6 * H2 + 4 * (n2 * H) + n2 * H2,
+         "The Lemma was used with the wrong sign: hat(a)^3 is MINUS |a|^2 hat(a)."),
+        (np.eye(3) + 4 * H + 6 * H2 - 4 * np.sqrt(n2) * H - np.sqrt(n2) * H2,
+         "The Lemma was used with |a| where it has |a|^2."),
+        (np.eye(3) + 4 * H + 6 * H2 + 4 * H3,
+         "The fourth power, hat(a)^4, is missing from the expansion."),
+        (np.eye(3) + 4 * H + 6 * H2 + H4,
+         "The third power, 4 hat(a)^3, is missing from the expansion."),
+    ]
+    for matrix, why in slips:
+        if np.allclose(got, matrix, rtol=1e-12, atol=0):
+            return _fail(name, why, _I_PLUS_HAT_HINT)
+    why = "c0 I + c1 hat(a) + c2 hat(a)^2 is not (I + hat(a))^4 (multiplied out)."
+    if np.allclose(got, target, rtol=1e-3, atol=0):
+        why += (" It is close, but the Lemma gives whole numbers exactly: no rounding is "
+                "needed.")
+    return _fail(name, why, _I_PLUS_HAT_HINT)
 
 
 # ---------------------------------------------------------------- exercise 1.3

@@ -45,13 +45,13 @@ def _computed_once(func):
 
 @pytest.fixture(autouse=True, scope="module")
 def _references_computed_once():
-    """The checkers' references -- 50-digit centred differences of log (6.1, 178 pairs)
-    and of exp (6.3, 230 cases), and C in 80 digits (6.2) -- are pure functions of their
-    arguments, and every checker call below recomputed the same ones: nine tenths of this
-    file's time. Each is now computed once, by the checker's own function, and later
-    calls get the same numbers; every answer is still checked against every reference."""
+    """The checkers' verdicts -- against 50-digit centred differences of log (6.1, 178
+    pairs) and of exp (6.3, 230 cases), and C in 80 digits (6.2) -- are pure functions of
+    their arguments (the case and the learner's result), and the right answers below are
+    checked many times over: each verdict is computed once, by the checker's own
+    function, and later calls with the same result get the same verdict."""
     with pytest.MonkeyPatch.context() as mp:
-        for name in ("_fd_ominus", "_fd_body", "_C_ref"):
+        for name in ("_judge_61", "_judge_63", "_judge_62"):
             mp.setattr(ex, name, _computed_once(getattr(ex, name)))
         yield
 
@@ -261,14 +261,27 @@ def test_module_exposes_no_answer():
 
 
 def test_C_stable_reference_is_mpmath_not_the_library():
-    """The checker's reference is (t - sin t)/t^3 in mpmath, independent of so3lib.C."""
+    """The checker judges against (t - sin t)/t^3 in mpmath, independent of so3lib.C,
+    and hands out only the relative error, never C itself."""
     import mpmath as mp
     for t in (1e-300, 1e-30, 1e-8, 0.1, 2.0, math.pi, 100.0, -0.5):
         with mp.workdps(700):                  # 1e-300: t - sin t cancels 600 digits
             x = mp.mpf(abs(t))
             want = float((x - mp.sin(x)) / x**3)
-        assert ex._C_ref(t) == pytest.approx(want, rel=1e-15, abs=0)
+        assert ex._judge_62(t, want)[0] <= 1e-15
+        assert 0.5e-11 <= ex._judge_62(t, want * (1 + 1e-11))[0] <= 2e-11
     assert "_C_lib(t)" not in open(ex.__file__).read()
+
+
+def test_no_helper_hands_out_an_answer():
+    """Issue 24: the references of 6.1-6.3 are used inside the checkers' judges, never
+    returned (a judge gives a verdict, a size of error and a note)."""
+    for name in ("_C_ref", "_fd_ominus", "_fd_body"):
+        assert not hasattr(ex, name)
+    phi, b = np.array([0.3, -0.4, 1.2]), np.array([1.0, -2.0, 0.5])
+    assert ex._judge_63(phi, b, np.zeros((3, 3)))[0] is False
+    ok1, ok0, diff, _ = ex._judge_61(phi, np.zeros((3, 3)), np.zeros((3, 3)))
+    assert not ok1 and not ok0 and isinstance(diff, float)
 
 
 def test_ominus_jacobians_written_D_is_refused():

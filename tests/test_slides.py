@@ -267,6 +267,18 @@ def test_handout_has_one_page_per_slide(handouts, measured, name):
     assert pages == n, f"{name}: the handout has {pages} pages for {n} slides"
 
 
+@pytest.mark.parametrize("name", NAMES)
+def test_handout_prints_every_figure(handouts, measured, name):
+    """Each page of the handout holds as many pictures as its slide shows figures (a figure
+    the learner turns prints as a still of its scene): counted in the PDF by pdfimages."""
+    if not shutil.which("pdfimages"):
+        if os.environ.get("CI"):
+            pytest.fail("no pdfimages (Debian package poppler-utils)")
+        pytest.skip("no pdfimages: apt-get install poppler-utils")
+    bad = slides.handout_faults(handouts[name], measured(name)["slides"])
+    assert not bad, _fail_list(name, "handout pages without their slide's figure", bad)
+
+
 # --- the build itself, on a small deck made here ------------------------------------------------
 
 PNG_1x1 = ("iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAABJ"

@@ -94,7 +94,7 @@ ROLES = (
        "`so3lib.plot.show_3d(fig, name, alt)` (the same alt text in the metadata), tag "
        "`hide-input`, a `subslide` of its own",
        (SHOW, "turns (plotly, no kernel)"), (SHOW, "turns"),
-       (SHOW, "turns"), _SHOWN, (SHOW, "turns")),
+       (SHOW, "turns; the handout prints a still of it"), _SHOWN, (SHOW, "turns")),
     _r("answer", "the stub the learner edits", "tag `answer`",
        _SHOWN, _SHOWN, _LEFT_OUT, (SPECIAL, "nbgrader answer cell"), _SHOWN, tag="answer"),
     _r("check", "the self-study checker call", "tags `check` and `points-N`",

@@ -10,7 +10,8 @@ table): those tagged "solution", "hidden-test", "answer", "check" or "verify", a
 an exercise slide shows the task and how it is checked. `--solutions`
 (`make slides-solutions`) builds the decks with the worked solutions, for after the
 deadline, into build/slides-solutions/. `--handouts` (`make handouts`) prints each deck
-to build/handouts/NN_name.pdf, one page per slide, with Chromium (reveal's print view).
+to build/handouts/NN_name.pdf, one page per slide, with Chromium (reveal's print view),
+each page with its slide's figures (a figure the learner turns as a still of its scene).
 
 The slide is 1280x720 (a common projector) and scales as a whole to the screen: prose is
 30 px and code 25 px at 1280x720. reveal.js, MathJax, jQuery and require.js are unpacked
@@ -31,6 +32,7 @@ Usage: python -m tools.slides [--out DIR] [--solutions] [--handouts] [NOTEBOOK .
 import argparse
 import html as htmllib
 import re
+import shutil
 import statistics
 import sys
 from pathlib import Path
@@ -252,7 +254,9 @@ class OfflineDeck:
             route.abort()
 
     def ready(self):
-        self.page.wait_for_function("document.documentElement.dataset.deckReady === '1'")
+        # polled by a timer: a background tab runs no animation frames to poll with
+        self.page.wait_for_function("document.documentElement.dataset.deckReady === '1'",
+                                    polling=250)
         return self.page
 
     def close(self):
@@ -512,44 +516,155 @@ def report(notebook, browser):
     return total
 
 
+# Before a deck is printed: each figure the learner turns (a plotly WebGL scene, which a
+# printer may drop) becomes a still of the same scene at the same size and camera
+# (Plotly.toImage), with the figure's alt text; every picture is decoded; and the figures
+# of a slide taller than its page are shrunk until it fits.
+STILLS_JS = r"""
+async () => {
+  const gds = [...document.querySelectorAll('.plotly-graph-div')].filter(gd => gd.layout);
+  for (const gd of gds) {
+    const w = Math.round(gd.offsetWidth), h = Math.round(gd.offsetHeight);
+    if (!w || !h) continue;
+    const url = await Plotly.toImage(gd, {format: 'png', width: w, height: h, scale: 2});
+    const img = document.createElement('img');
+    img.src = url;
+    img.alt = gd.getAttribute('aria-label') || '';
+    img.className = 'course-figure course-plotly-still';
+    img.style.cssText = `width:${w}px;height:${h}px;max-height:none;margin:4px 0 0 0`;
+    gd.style.display = 'none';
+    gd.parentNode.style.height = 'auto';  // the box fitted to the scene: now to the still
+    gd.parentNode.insertBefore(img, gd);
+  }
+  await Promise.all([...document.images].map(i => i.decode().catch(() => null)));
+  // The print view lays slides out anew, figures at their drawn size: a slide taller than
+  // its page would push a figure, whole, onto the next page. Shrink its figures to fit.
+  let shrunk = 0;
+  for (const pg of document.querySelectorAll('.reveal .pdf-page')) {
+    const section = pg.querySelector('section');
+    if (!section) continue;
+    for (let round = 0; round < 3; round++) {
+      const over = section.scrollHeight - pg.clientHeight + 6;
+      const imgs = [...section.querySelectorAll('img.course-figure, .jp-RenderedMarkdown img')]
+        .filter(i => i.offsetHeight > 0);
+      if (over <= 0 || !imgs.length) break;
+      const share = over / imgs.length;
+      imgs.forEach(i => { const h = i.offsetHeight, w = i.offsetWidth;
+        const t = Math.max(120, h - share);
+        i.style.maxHeight = 'none'; i.style.height = Math.floor(t) + 'px';
+        i.style.width = Math.floor(w * t / h) + 'px'; });
+      shrunk++;
+    }
+  }
+  await new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)));
+  return {stills: gds.length, shrunk};
+}
+"""
+
+
+# How many pictures each page of the print view shows (what the PDF's page must hold).
+PAGE_PICTURES_JS = r"""
+() => [...document.querySelectorAll('.reveal .pdf-page')].map(pg =>
+  [...pg.querySelectorAll('img')].filter(i => i.offsetWidth > 0 && i.offsetHeight > 0
+    && !i.closest('aside.notes')).length)
+"""
+PAINTED_JS = r"""
+async () => {
+  await Promise.all([...document.images].map(i => i.decode().catch(() => null)));
+  await new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)));
+}
+"""
+
+
 def handouts(decks, out=OUT_HANDOUTS, browser=None):
     """Print each deck through reveal's print view (?print-pdf) to OUT/NN_name.pdf, one page
-    per slide, with Chromium and no network; returns the PDF paths."""
+    per slide, with Chromium and no network; returns the PDF paths. Every page holds its
+    slide's figures: a plotly scene prints as a still of itself (STILLS_JS), and each deck
+    is brought to the front before it prints (Chromium left the pictures of a deck printed
+    from a background tab out of about a third of its pages)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     own = browser is None
     if own:
         pw, browser = launch()
-    written, todo = [], []
+    written, todo, opened = [], [], []
+    stamps, tooling = Stamps(out), tooling_key()
     try:
         for deck in decks:
             deck = Path(deck)
             target = out / (deck.name.removesuffix(".slides.html") + ".pdf")
             written.append(target)
-            if not (target.exists() and target.stat().st_mtime >= deck.stat().st_mtime):
-                todo.append((deck, target))  # not printed since the deck last changed
-        # every deck starts loading at once (mostly waiting), then each is printed
-        opened = [(deck, target, OfflineDeck(browser, deck, WIDTH, HEIGHT, query="?print-pdf"))
-                  for deck, target in todo]
-        for deck, target, d in opened:
+            key = stamps.key(tooling, deck.read_bytes())
+            if not stamps.fresh(target.name, key):  # not printed since the deck or tools changed
+                todo.append((deck, target, key))
+        # one deck at a time, in front: a background tab is not painted for the printer
+        for deck, target, key in todo:
+            d = OfflineDeck(browser, deck, WIDTH, HEIGHT, query="?print-pdf")
+            opened.append(d)
+            d.page.bring_to_front()
             page = d.ready()
-            page.wait_for_function("document.querySelectorAll('.reveal .pdf-page').length > 0")
+            page.wait_for_function("document.querySelectorAll('.reveal .pdf-page').length > 0",
+                                   polling=250)
+            page.evaluate(STILLS_JS)
             page.emulate_media(media="print")
+            want = page.evaluate(PAGE_PICTURES_JS)
             tmp = target.with_name(f".{target.name}.tmp")
-            page.pdf(path=str(tmp), width=f"{WIDTH}px", height=f"{HEIGHT}px",
-                     print_background=True, prefer_css_page_size=True)
+            # Chromium now and then prints a page without a picture that is on it (seen on a
+            # loaded machine): the PDF is checked page by page and printed again if so.
+            for attempt in range(3):
+                page.evaluate(PAINTED_JS)
+                page.wait_for_timeout(500 * (attempt + 1))
+                page.pdf(path=str(tmp), width=f"{WIDTH}px", height=f"{HEIGHT}px",
+                         print_background=True, prefer_css_page_size=True)
+                got = pdf_images(tmp) if shutil.which("pdfimages") else None
+                missing = [k for k, n in enumerate(want, 1) if got is not None and got[k] < n]
+                if not missing:
+                    break
+            else:
+                tmp.unlink(missing_ok=True)
+                raise SystemExit(f"{deck.name}: the handout's pages {missing} lack a figure "
+                                 "after 3 prints")
             tmp.replace(target)
             problems = d.blocked + d.errors
             if problems:
                 target.unlink(missing_ok=True)
                 raise SystemExit(f"{deck.name}: " + "; ".join(problems))
+            opened.remove(d)
+            d.close()
+            stamps.record(target.name, key)
+            stamps.save()
     finally:
-        for *_, d in locals().get("opened", []):
+        for d in opened:
             d.close()
         if own:
             browser.close()
             pw.stop()
     return written
+
+
+def pdf_images(pdf):
+    """{page number (from 1): how many pictures it holds} of a PDF (poppler's pdfimages;
+    a picture's transparency mask is not counted again)."""
+    import subprocess
+    from collections import Counter
+    if not shutil.which("pdfimages"):
+        raise SystemExit("no pdfimages: apt-get install poppler-utils")
+    out = subprocess.run(["pdfimages", "-list", str(pdf)], capture_output=True, text=True,
+                         check=True).stdout
+    counts = Counter()
+    for line in out.splitlines()[2:]:
+        f = line.split()
+        if len(f) > 2 and f[2] == "image":
+            counts[int(f[0])] += 1
+    return counts
+
+
+def handout_faults(pdf, slides):
+    """The pages of a deck's handout that hold fewer pictures than their slide shows
+    (SLIDES: the deck's measure, in page order)."""
+    counts = pdf_images(pdf)
+    return [f"page {k} ({m['headline'][:40]!r}): {counts[k]} of {len(m['figures'])} figures printed"
+            for k, m in enumerate(slides, 1) if counts[k] < len(m["figures"])]
 
 
 def main(argv=None):

@@ -141,9 +141,12 @@ def _exp_mp(p):
     return _mp.eye(3) + _mp.sin(th) / th * K + 2 * (_mp.sin(th / 2) / th)**2 * K * K
 
 
-def _fd_ominus(phi):
-    """(J1, J0): 50-digit centred differences of Log(exp(phi) exp(delta)) and of
-    Log(exp(-delta) exp(phi)) in delta, rounded to floats. These are
+def _judge_61(phi, g1, g0):
+    """(ok1, ok0, diff, note) for the learner's (J1, J0) = (g1, g0): within 1e-12 of the
+    derivatives that define them, and what a miss looks like. The derivatives are 50-digit
+    centred differences of Log(exp(phi) exp(delta)) and of Log(exp(-delta) exp(phi)) in
+    delta, rounded to floats, used here and never returned (no helper hands out an
+    answer). These are
     R0^T (R1 exp(delta)) and (R0 exp(delta))^T R1 for R1 = R0 exp(phi), built from the
     exact rotation exp(phi) (the float product R0^T R1 is a rotation only to rounding,
     and near a half-turn the logarithm of the difference would swamp 1e-12)."""
@@ -161,7 +164,12 @@ def _fd_ominus(phi):
                     steps.append(_log_mp(M))
                 cols.append([float((u - d) / (2 * h)) for u, d in zip(*steps)])
             out.append(np.array(cols).T)
-    return out
+    j1, j0 = out
+    ok1, ok0 = _close(g1, j1, 1e-12), _close(g0, j0, 1e-12)
+    if ok1 and ok0:
+        return True, True, 0.0, None
+    diff = max(float(np.abs(g1 - j1).max()), float(np.abs(g0 - j0).max()))
+    return ok1, ok0, diff, _diagnose_61(g1, g0, j1, j0, phi)
 
 
 def _pair(got):
@@ -259,15 +267,12 @@ def check_ominus_jacobians(func):
                 why += ("; at so small a turn theta^2 underflows to 0 (below 1.5e-162), "
                         "so a form that divides by it is 0/0 even when theta is not 0")
             return _fail(name, f"On the pair with {shown}, {why}.")
-        j1, j0 = _fd_ominus(phi)
-        ok1, ok0 = _close(arr[0], j1, 1e-12), _close(arr[1], j0, 1e-12)
+        ok1, ok0, diff, extra = _judge_61(phi, arr[0], arr[1])
         if not (ok1 and ok0):
             wrong = " and ".join(n for n, ok in (("J1", ok1), ("J0", ok0)) if not ok)
-            diff = max(float(np.abs(arr[0] - j1).max()), float(np.abs(arr[1] - j0).max()))
             verb = "differ" if " and " in wrong else "differs"
             why = (f"On the pair with {shown}, {wrong} {verb} from the 50-digit "
                    f"derivative of R1 (-) R0 by up to {diff:.2g} (allowed: 1e-12).")
-            extra = _diagnose_61(arr[0], arr[1], j1, j0, phi)
             return Feedback(False, f"Not yet: {name}. {why}" + (f" {extra}" if extra else "")
                             + "\nHint: write R0^T (R1 exp(delta)) and (R0 exp(delta))^T R1 "
                               "as exp(phi) times a small rotation, and use the derivatives "
@@ -326,15 +331,20 @@ def _spy_C(calls):
             setattr(owner, attr, orig)
 
 
-def _C_ref(t):
-    """C(t) = (t - sin t)/t^3 from 80-digit mpmath: the cancellation costs at most 40 of
-    the 80 digits for |t| >= 1e-20; below, C = 1/6 to within t^2/20 < 1e-41 relative."""
+def _judge_62(t, got):
+    """(relative error, like the written form) of the learner's C(t) = GOT, from the
+    defining property t^3 C = t - sin t in 80-digit mpmath (the cancellation costs at most
+    40 of the 80 digits for |t| >= 1e-20; below, C = 1/6, its limit, to within t^2/20 <
+    1e-41 relative). The value of C is used here and never returned."""
     t = abs(float(t))
     if t < 1e-20:
-        return 1 / 6
-    with _mp.workdps(80):
-        x = _mp.mpf(t)
-        return float((x - _mp.sin(x)) / x**3)
+        ref = 1 / 6
+    else:
+        with _mp.workdps(80):
+            x = _mp.mpf(t)
+            ref = float((x - _mp.sin(x)) / x**3)
+    rel = abs(float(got) - ref) / ref
+    return rel, abs(float(got) - _written_62(t)) <= 0.01 * abs(float(got) - ref)
 
 
 def _written_62(t):
@@ -370,16 +380,15 @@ def check_C_stable(func):
                                    "below 1e-108). Use the Taylor series at small t.",
                              "C(t) = 1/6 - t^2/120 + t^4/5040 - ...")
             return fb
-        ref = _C_ref(t)
-        rel = abs(float(got) - ref) / ref
+        rel, like_written = _judge_62(t, got)
         if rel > 1e-12:
-            bad.append((t, rel, float(got), ref))
+            bad.append((t, rel, like_written))
     if not bad:
         return _ok(name, f"Within 1e-12 relative at all {len(_TS_62)} test angles, from 0 "
                          "to 100.")
     t, rel = bad[0][:2]
     # a wrong value equal to the written form in floats is cancellation; others are not
-    small = [b for b in bad if abs(b[2] - _written_62(b[0])) <= 0.01 * abs(b[2] - b[3])]
+    small = [b for b in bad if b[2]]
     # wrong below 0.01 but not as the written form is: too short a series, or t lost
     tiny = [b for b in bad if b not in small and abs(b[0]) < 0.01]
     large = [b for b in bad if b not in small and b not in tiny]
@@ -443,8 +452,9 @@ def _cases_63():
          for i, t in enumerate(_TINY_63 + _TURNS_63)]
 
 
-def _fd_body(phi, b):
-    """Columns: d/dphi_j of exp(phi)^T b, by 50-digit centred differences."""
+def _judge_63(phi, b, got):
+    """(ok, diff, note) for the learner's derivative GOT of exp(phi)^T b: within 1e-12 of
+    its columns d/dphi_j by 50-digit centred differences (used here, never returned)."""
     with _mp.workdps(50):
         h = _mp.mpf("1e-20")
         p, v = [_mp.mpf(float(x)) for x in phi], _mp.matrix([float(x) for x in b])
@@ -453,13 +463,16 @@ def _fd_body(phi, b):
             up = _exp_mp([x + (h if i == j else 0) for i, x in enumerate(p)])
             down = _exp_mp([x - (h if i == j else 0) for i, x in enumerate(p)])
             cols.append([float(x) for x in (up.T * v - down.T * v) / (2 * h)])
-    return np.array(cols).T
+    ref = np.array(cols).T
+    if _close(got, ref, 1e-12):
+        return True, 0.0, None
+    return False, float(np.abs(got - ref).max()), _diagnose_63(got, phi, b, ref)
 
 
-def _diagnose_63(got, phi, b):
+def _diagnose_63(got, phi, b, ref):
     v = hat(exp(phi).T @ b)
     jr = _fd_jacobian(phi, "right")
-    if _close(got, _fd_body(phi, b), 1e-6):
+    if _close(got, ref, 1e-6):
         return ("Close (within 1e-6) but not within 1e-12: finite differences cannot reach "
                 "the last digits, nor can coefficients B, C kept as a Taylor series too far "
                 "(or written in a form that cancels). Expand exp(phi + delta)^T b to first "
@@ -496,12 +509,10 @@ def check_body_jacobian(func):
         got, fb = _call(func, name, (phi, b), shown, (3, 3))
         if fb is not None:
             return fb
-        ref = _fd_body(phi, b)
-        if not _close(got, ref, 1e-12):
-            diff = float(np.abs(got - ref).max())
+        ok, diff, extra = _judge_63(phi, b, got)
+        if not ok:
             why = (f"On {shown} it differs from the 50-digit derivative of exp(phi)^T b "
                    f"by up to {diff:.2g} (allowed: 1e-12); your result is {_fmt(got)}.")
-            extra = _diagnose_63(got, phi, b)
             return Feedback(False, f"Not yet: {name}. {why}" + (f" {extra}" if extra else "")
                             + "\nHint: exp(phi + delta)^T ~ exp(J_r delta)^T exp(phi)^T "
                               "= exp(-J_r delta) exp(phi)^T; expand to first order.")

@@ -9,7 +9,8 @@ here                meaning                                complex numbers
 ``J``               ``[[0, -1], [1, 0]]``, ``J @ J == -I`` ``j`` (multiply by ``j``)
 ``hat(w)``          ``w * J``, the 2-D hat                 ``j w``
 ``exp(theta, tau)`` ``cos(t) I + sin(t) J``, t = theta tau ``e^{j t}``
-``log(R, tau)``     ``atan2(R[1,0], R[0,0]) / tau``        ``arg(z) / tau``
+``log(R, tau)``     ``atan2(R[1,0], R[0,0]) / tau``,       ``arg(z) / tau``
+                    in the doubles ``(-np.pi, np.pi]``
 ``from_complex(z)`` ``Re(z) I + Im(z) J``                  ``z``
 ==================  =====================================  ============================
 
@@ -102,8 +103,12 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
     .. math:: \ln_\tau R = \frac{\operatorname{atan2}(R_{21}, R_{11})}{\tau}
 
     atan2 is well conditioned at every angle; the only discontinuity is the branch cut
-    at :math:`\pm\pi`: a matrix exactly on it (``R[1, 0] == 0``, ``R[0, 0] < 0``, even with
-    a negative zero) gives :math:`+\pi` (spec S27).
+    at :math:`\pm\pi`. The convention: the result lies in the *doubles*
+    ``(-np.pi, np.pi]``, so a half-turn gives ``np.pi``, never ``-np.pi`` (spec S27).
+    atan2 returns the double ``-np.pi`` on the cut (``R[1, 0]`` the float ``-0.0``,
+    ``R[0, 0] < 0``) and next to it (a negative ``R[1, 0]`` so small, below about 3e-16,
+    that :math:`-\pi + |R_{21}|` rounds to that double); ``np.pi`` is returned instead,
+    the same half-turn to within 5e-16 rad (two ulps of pi).
 
     Parameters
     ----------
@@ -125,10 +130,12 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
     tau = as_times(tau, "so2.log", nonzero=True)
     broadcast_batch(R.shape[:-2], tau, "so2.log", "R")
     s, c = R[..., 1, 0], R[..., 0, 0]
-    # On the cut (s = 0, c < 0) atan2 gives -pi for s = -0.0; return +pi there. A tiny
-    # negative s is not on the cut: its angle rounds to the double -3.141592653589793,
-    # which lies just above the true -pi.
-    theta = np.where((s == 0) & (c < 0), np.pi, np.arctan2(s, c))
+    # atan2 gives the double -np.pi for s = -0.0 with c < 0, and for a negative s so small
+    # that -pi + |s| rounds to it; both are the half-turn, returned as np.pi (the doubles
+    # (-np.pi, np.pi], as the docstring says). Its distance to the true angle, modulo 2 pi,
+    # is below 5e-16 either way (two ulps of pi).
+    theta = np.arctan2(s, c)
+    theta = np.where(theta == -np.pi, np.pi, theta)
     with np.errstate(over="ignore"):           # reported below
         out = theta / tau
     if not np.isfinite(out).all():

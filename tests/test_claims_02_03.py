@@ -124,3 +124,57 @@ def test_02_tan_of_half_pi_is_finite():
     assert 1e16 < np.tan(np.pi / 2) < 1e17
     n = np.array([1.0, 2.0, 3.0]) / math.sqrt(14)
     assert np.abs(exp(np.pi * n) - _exp_ref(np.pi * n)).max() <= 8 * EPS
+
+
+# ------------------------------------------------------------------------- notebook 03
+
+
+def test_03_phi_of_z_multiplies_by_z():
+    """(3.9): Phi(z) acting on (x, y) is z (x + jy) (notebook 03, section 5)."""
+    from so3lib import so2
+    rng = np.random.default_rng(303)
+    for _ in range(20):
+        z, p = complex(*rng.standard_normal(2)), complex(*rng.standard_normal(2))
+        got = so2.from_complex(z) @ [p.real, p.imag]
+        assert np.allclose(got, [(z * p).real, (z * p).imag], rtol=0, atol=4 * EPS * abs(z) * abs(p))
+
+
+def test_03_quaternion_half_angle_and_double_cover():
+    """Section 9: q = (cos th/2, sin th/2 n) rotates by (3.17)-(3.18) as SciPy's Rotation and
+    the 50-digit exponential do; -q gives the same rotation; q(th + 2 pi) = -q(th); SU(2) multiplies like q."""
+    from scipy.spatial.transform import Rotation
+
+    def qmul(p, q):
+        return np.concatenate([[p[0] * q[0] - p[1:] @ q[1:]],
+                               p[0] * q[1:] + q[0] * p[1:] + np.cross(p[1:], q[1:])])
+
+    def R_of(q):
+        w, v = q[0], q[1:]
+        return (w * w - v @ v) * np.eye(3) + 2 * np.outer(v, v) + 2 * w * hat(v)
+
+    pauli = [np.array([[0, 1], [1, 0]]), np.array([[0, -1j], [1j, 0]]), np.array([[1, 0], [0, -1]])]
+
+    def U_of(q):
+        return q[0] * np.eye(2) - 1j * sum(a * s for a, s in zip(q[1:], pauli))
+
+    rng = np.random.default_rng(309)
+    for _ in range(20):
+        n = rng.standard_normal(3)
+        n /= np.linalg.norm(n)
+        th = rng.uniform(0, 2 * np.pi)
+        q = np.concatenate([[np.cos(th / 2)], np.sin(th / 2) * n])
+        R = _exp_ref(th * n)                       # 50 digits: SciPy's expm is off by ~100 eps near 2 pi
+        x = rng.standard_normal(3)
+        qxq = qmul(qmul(q, np.r_[0.0, x]), q * [1, -1, -1, -1])
+        assert np.abs(qxq[1:] - R @ x).max() <= 32 * EPS * np.abs(x).max()
+        assert np.abs(R_of(q) - R).max() <= 16 * EPS
+        assert np.abs(R_of(q) - Rotation.from_quat(np.r_[q[1:], q[0]]).as_matrix()).max() <= 16 * EPS
+        q2 = np.concatenate([[np.cos((th + 2 * np.pi) / 2)], np.sin((th + 2 * np.pi) / 2) * n])
+        assert np.abs(q2 + q).max() <= 8 * EPS
+        U = U_of(q)
+        assert np.abs(U.conj().T @ U - np.eye(2)).max() <= 4 * EPS
+        assert abs(np.linalg.det(U) - 1) <= 4 * EPS
+        assert np.abs(U @ sum(a * s for a, s in zip(x, pauli)) @ U.conj().T
+                      - sum(a * s for a, s in zip(R @ x, pauli))).max() <= 32 * EPS * np.abs(x).max()
+        p1, p2 = rng.standard_normal(4), rng.standard_normal(4)
+        assert np.abs(U_of(qmul(p1, p2)) - U_of(p1) @ U_of(p2)).max() <= 16 * EPS * 4

@@ -29,14 +29,25 @@ def _so2_log_right(R):
 def test_so2_log_right_answer_passes():
     fb = check_so2_log(_so2_log_right)
     assert fb and repr(fb).startswith("Correct: so2_log")
-    assert "-np.eye(2) included" in repr(fb)
+    assert "two half-turns on the cut and next to it included" in repr(fb)
 
 
 def test_so2_log_plain_arctan2_is_caught_on_minus_zero():
     # np.arctan2(-0.0, -1.0) is -pi: outside (-pi, pi]; the message names -0.0
     assert np.arctan2(-np.eye(2)[1, 0], -1.0) == -np.pi
     _says(check_so2_log(lambda R: np.arctan2(R[1, 0], R[0, 0])),
-          r"On -np.eye\(2\) it returned -3.14159, outside \(-pi, pi\]: .*-0.0")
+          r"On -np.eye\(2\) it returned -3.14159, the double -np.pi, outside .*-0.0")
+
+
+def test_so2_log_testing_for_a_zero_sine_is_caught_next_to_the_cut():
+    # R21 = -1e-16 is not zero, yet np.arctan2 rounds -pi + 1e-16 to the double -np.pi
+    def zero_test(R):
+        if R[1, 0] == 0 and R[0, 0] < 0:
+            return np.pi
+        return np.arctan2(R[1, 0], R[0, 0])
+    assert np.arctan2(-1e-16, -1.0) == -np.pi
+    _says(check_so2_log(zero_test),
+          r"On \[\[-1, 1e-16\], \[-1e-16, -1\]\] it returned -3.14159, .*R\[1, 0\] == 0 misses it")
 
 
 @pytest.mark.parametrize("student, says", [
@@ -96,14 +107,21 @@ def test_so2_log_lost_precision_gets_the_size_of_the_miss():
 
 def test_so2_log_other_right_answers_pass():
     """Any float64 route from the entries that keeps its digits passes: arcsin with the
-    quadrant from R11, or +0.0 added to R21 before atan2."""
+    quadrant from R11, or atan2 with -np.pi mapped to np.pi by np.where."""
     def from_arcsin(R):
         a = np.arcsin(R[1, 0])
         if R[0, 0] < 0:
             a = np.pi - a
         return a - 2 * np.pi if a > np.pi else a
     assert check_so2_log(from_arcsin)
-    assert check_so2_log(lambda R: np.arctan2(R[1, 0] + 0.0, R[0, 0]))
+    assert check_so2_log(lambda R: np.where(np.arctan2(R[1, 0], R[0, 0]) == -np.pi, np.pi,
+                                            np.arctan2(R[1, 0], R[0, 0])))
+
+
+def test_so2_log_adding_plus_zero_mends_only_the_negative_zero():
+    # R21 + 0.0 turns -0.0 into 0.0, but -1e-16 stays negative: atan2 still gives -np.pi
+    _says(check_so2_log(lambda R: np.arctan2(R[1, 0] + 0.0, R[0, 0])),
+          r"On \[\[-1, 1e-16\], \[-1e-16, -1\]\] it returned -3.14159")
 
 
 def test_so2_log_wrapping_is_required():

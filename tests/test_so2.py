@@ -2,6 +2,7 @@
 
 import math
 
+import mpmath
 import numpy as np
 import pytest
 from hypothesis import given
@@ -47,8 +48,11 @@ def test_log_is_atan2_in_half_open_interval(theta):
     """Log R = atan2(R21, R11) in (-pi, pi] (spec S27)."""
     R = so2_exp_ref(theta)
     L = so2.log(R)
-    assert -math.pi <= L <= math.pi        # -pi as a double lies just above the true -pi
-    assert abs(L - so2_log_ref(R)) <= 2 * EPS * max(1.0, abs(L))
+    assert -math.pi < L <= math.pi         # the doubles (-np.pi, np.pi]: never -np.pi
+    ref = so2_log_ref(R)
+    if ref == -math.pi:                    # the reference rounds the true angle, just above
+        ref = math.pi                      # -pi, to the double -np.pi: the same half-turn
+    assert abs(L - ref) <= 2 * EPS * max(1.0, abs(L))
     wrapped = theta - 2 * math.pi * round(theta / (2 * math.pi))
     assert abs(L - wrapped) <= 4 * EPS * max(1.0, abs(wrapped)) or abs(abs(wrapped) - math.pi) < 1e-15
 
@@ -56,6 +60,32 @@ def test_log_is_atan2_in_half_open_interval(theta):
 def test_log_at_the_branch_cut_returns_plus_pi():
     assert so2.log(np.array([[-1.0, 0.0], [-0.0, -1.0]])) == math.pi
     assert so2.log(np.array([[-1.0, -0.0], [0.0, -1.0]])) == math.pi
+
+
+@pytest.mark.parametrize("s", [-0.0, -1e-300, -1e-16, -2e-16, -3e-16])
+def test_log_next_to_the_cut_returns_plus_pi(s):
+    """atan2(s, -1) rounds to the double -np.pi for these s; the convention (the doubles
+    (-np.pi, np.pi], notebook 03 section 7) makes it np.pi, within 5e-16 of the true angle
+    modulo 2 pi."""
+    assert np.arctan2(s, -1.0) == -np.pi
+    R = np.array([[-1.0, -s], [s, -1.0]])
+    L = so2.log(R)
+    assert L == math.pi
+    with mpmath.workdps(40):               # the true angle and L, modulo 2 pi
+        d = mpmath.atan2(s, -1) - mpmath.mpf(L)
+        d -= 2 * mpmath.pi * mpmath.nint(d / (2 * mpmath.pi))
+        assert abs(d) < 5e-16              # two ulps of pi
+    assert so2.log(np.stack([R, R]), 2.0).tolist() == [math.pi / 2, math.pi / 2]
+
+
+def test_log_is_never_minus_pi_on_a_dense_sweep_through_the_cut():
+    """Angles through pi in steps of about 1e-16: every result in the doubles (-np.pi, np.pi]."""
+    s = np.concatenate([-np.geomspace(1e-18, 1e-14, 401), [-0.0, 0.0],
+                        np.geomspace(1e-18, 1e-14, 401)])
+    R = np.stack([np.stack([-np.ones_like(s), -s], -1), np.stack([s, -np.ones_like(s)], -1)], -2)
+    L = so2.log(R)
+    assert np.isfinite(L).all() and (L > -np.pi).all() and (L <= np.pi).all()
+    assert (L[s < -4e-16] < 0).all()       # far enough from the cut, the negative side stays
 
 
 def test_log_with_time_and_batches():

@@ -62,11 +62,14 @@ def _not_answered(fb):
 # Simplest first: the message names the first input on which an answer goes wrong.
 # -0.7 catches arccos (no sign), 2.5 and -2.5 catch arctan(R21 / R11) (wrong quadrant),
 # 4.0 needs wrapping into (-pi, pi]. 1e-9 catches arccos given the sign of R21: cos(1e-9)
-# rounds to 1, so arccos returns 0 there (the hidden test has the same angle). Last, the
-# half-turn -np.eye(2): its R21 is the float -0.0, on which np.arctan2 returns -pi,
-# outside (-pi, pi] (notebook 03, section 7).
+# rounds to 1, so arccos returns 0 there (the hidden test has the same angle). Last, two
+# half-turns on which np.arctan2 returns the double -pi, outside the doubles (-pi, pi]
+# (notebook 03, section 7): -np.eye(2), whose R21 is the float -0.0, and a half-turn whose
+# R21 is -1e-16, not zero, yet too small to move atan2 off -pi.
 _LOG_ANGLES = (0.5, -0.7, 2.5, -2.5, 4.0, 1e-9)
 _HALF_TURN = "-np.eye(2)"
+_NEAR_CUT = "[[-1, 1e-16], [-1e-16, -1]]"
+_NEAR_CUT_R = np.array([[-1.0, 1e-16], [-1e-16, -1.0]])
 #: cos and sin of the answer must give R's first column to this (float64 gives ~1e-16;
 #: the hidden test asks 1e-12 of the angle itself).
 _LOG_TOL = 1e-12
@@ -110,12 +113,14 @@ def check_so2_log(func):
     planar rotation ``R`` (notebook 03, equation (3.12)).
 
     Tests the defining property on so2.exp(t) for t = 0.5, -0.7, 2.5, -2.5, 4.0 and 1e-9,
-    and on the half-turn ``-np.eye(2)`` (whose ``R[1, 0]`` is ``-0.0``): the result lies in
-    :math:`(-\pi, \pi]` and its cosine and sine are ``R[0, 0]`` and ``R[1, 0]`` to 1e-12.
+    and on two half-turns, ``-np.eye(2)`` (whose ``R[1, 0]`` is ``-0.0``) and
+    ``[[-1, 1e-16], [-1e-16, -1]]``: the result lies in the doubles ``(-np.pi, np.pi]`` (the
+    course's convention: the double ``-np.pi`` is never returned, a half-turn is ``np.pi``)
+    and its cosine and sine are ``R[0, 0]`` and ``R[1, 0]`` to 1e-12.
     Names the usual slips: arccos of ``R[0, 0]`` (loses the sign, and at 1e-9 every digit,
     even with the sign of ``R[1, 0]`` attached), arctan of the ratio (loses the quadrant), a
     sign flipped by reading ``R[0, 1]``, degrees, a complex logarithm :math:`j\alpha`, lost
-    precision, and plain ``np.arctan2`` on ``-0.0`` (returns :math:`-\pi`). Refuses a
+    precision, and plain ``np.arctan2`` next to the cut (returns the double ``-np.pi``). Refuses a
     function that calls ``so2.log``, which the exercise asks the learner to write.
     """
     name = "so2_log"
@@ -124,9 +129,10 @@ def check_so2_log(func):
     if func is so2.log:
         return Feedback(False, f"Not yet: {name}. That is so3lib's own so2.log; the exercise "
                                "asks you to write it from the entries of R.")
-    for t in (*_LOG_ANGLES, _HALF_TURN):
-        R = -np.eye(2) if t == _HALF_TURN else _angle_matrix(t)
-        label = _HALF_TURN if t == _HALF_TURN else f"so2.exp({t:g})"
+    for t in (*_LOG_ANGLES, _HALF_TURN, _NEAR_CUT):
+        R = {_HALF_TURN: -np.eye(2), _NEAR_CUT: _NEAR_CUT_R}.get(t) if isinstance(t, str) \
+            else _angle_matrix(t)
+        label = t if isinstance(t, str) else f"so2.exp({t:g})"
         try:
             # every call of so2.log, however the learner's code reached it
             with _calls_watched({so2.log.__code__: "so2.log"}.get) as calls:
@@ -165,9 +171,17 @@ def check_so2_log(func):
             continue
         if same and t == _HALF_TURN:
             return Feedback(False, f"Not yet: {name}. On {label} it returned {alpha:.6g}, "
-                                   "outside (-pi, pi]: this half-turn's R[1, 0] is the float "
-                                   "-0.0, and np.arctan2(-0.0, -1.0) returns -pi.\nHint: "
-                                   "return +pi in that one case (np.where, or an if).")
+                                   "the double -np.pi, outside (-np.pi, np.pi]: this "
+                                   "half-turn's R[1, 0] is the float -0.0, and "
+                                   "np.arctan2(-0.0, -1.0) returns -np.pi.\nHint: return "
+                                   "np.pi wherever np.arctan2 gives -np.pi.")
+        if same and t == _NEAR_CUT:
+            return Feedback(False, f"Not yet: {name}. On {label} it returned {alpha:.6g}, "
+                                   "the double -np.pi, outside (-np.pi, np.pi]. R[1, 0] is "
+                                   "-1e-16 here, not zero, but -pi + 1e-16 rounds to the "
+                                   "double -np.pi: a test for R[1, 0] == 0 misses it.\nHint: "
+                                   "look at what np.arctan2 returned, not at R: return np.pi "
+                                   "wherever it gives -np.pi.")
         if same:
             return Feedback(False, f"Not yet: {name}. On {label} it returned {alpha:.6g}: "
                                    "the right rotation, but outside (-pi, pi].\nHint: the "
@@ -191,8 +205,8 @@ def check_so2_log(func):
                                "cosine and sine are not R's first column.\nHint: "
                                + _so2_log_hint(func))
     return Feedback(True, f"Correct: {name}. Its angles lie in (-pi, pi] and give R back "
-                          f"on {len(_LOG_ANGLES) + 1} rotations, the half-turn -np.eye(2) "
-                          "included.")
+                          f"on {len(_LOG_ANGLES) + 2} rotations, two half-turns on the cut "
+                          "and next to it included.")
 
 
 def _integrate_rate(T, steps=1000):

@@ -174,6 +174,61 @@ def test_deck_presents_offline(opened, measured, name):
     screenshot(page, f"slides_{name}")
 
 
+# Issue 23: each deck a 50-minute lecture (tools.slides.LIMITS; `python -m tools.slides --report
+# NOTEBOOK` prints every slide against them). A deck is held to each limit it met when the
+# limit came in; the pairs below did not meet theirs yet, and are expected to fail until the
+# decks' content work makes them pass (then take the deck off the list, so it stays met).
+NOT_YET = {
+    "slides": "01 02 03 04 05 06",
+    "questions": "01 02 03 04 05 06",
+    "notes": "00 01 02 03 04 05 06 A1",
+    "time": "00 01 02 03 04 05 06 A1",
+    "code": "00 01 02 03 04 05 A1",
+    "checks": "00 01 02 03 04 05 06 A1",
+    "coursework": "00 01 02 03 04 05 06 A1",
+    "references": "01 02 03 04 05 06 A1",
+    "figures": "01 02 03 04 05 06 A1",
+    "labels": "00 01 02 03 04 05 06 A1",
+    "builds": "00 01 02 03 04 05 06 A1",
+    "summary": "01 02 03 06",
+}
+
+
+@pytest.mark.parametrize("limit", list(slides.LIMITS))
+@pytest.mark.parametrize("name", NAMES)
+def test_a_fifty_minute_lecture(measured, name, limit):
+    found = slides.lecture_faults(name, measured(name)["slides"])[limit]
+    if name[:2] in NOT_YET[limit].split():
+        if found:
+            pytest.xfail(f"issue 23, not met yet: {slides.LIMITS[limit]} ({len(found)} short)")
+        return  # met now: take the deck off NOT_YET
+    assert not found, _fail_list(name, slides.LIMITS[limit], found)
+
+
+def test_label_estimate_is_the_house_style():
+    """The report estimates a matplotlib figure's labels from so3lib.plot's house style."""
+    from so3lib.plot import SLIDE_STYLE
+    smallest = min(SLIDE_STYLE[k] for k in ("xtick.labelsize", "ytick.labelsize", "legend.fontsize"))
+    assert slides.LABEL_PX_DRAWN == pytest.approx(smallest * SLIDE_STYLE["savefig.dpi"] / 72)
+
+
+def test_lecture_measures_on_made_up_slides():
+    """The lecture limits read what they should from a slide's texts."""
+    base = {"headline": "A slide", "notes_words": 5, "notes_text": "[12 min] Ask the hall.",
+            "code_lines": 2, "code_text": "x = 1\ny = 2", "output_text": "", "prose_text":
+            "The error stays below 8 eps, as (4.9) says.", "math_text": "(4.9)", "pictures": [],
+            "list_items": 0, "display_math": 1, "fragments": 0, "tables": 0, "questions": 0}
+    assert slides.lecture_slide_faults(base) == []
+    assert slides.time_mark("[12 min] go") == 12 and slides.time_mark("give them 2 min") is None
+    bad = dict(base, notes_text="Ask the hall.", code_lines=8,
+               code_text='report("x", a, b, tol=8)', output_text="x: within 8 eps: ok\nNot yet",
+               prose_text="As shown above, (4.15) fixes N15; the checker gives 3 points.")
+    kinds = {k for k, _ in slides.lecture_slide_faults(bad)}
+    assert kinds == {"time", "code", "checks", "coursework", "references"}, kinds
+    x = slides.lecture_measure(bad)
+    assert x["checks"] == 3 and sorted(x["references"]) == ['"above"', "(4.15)", "N15"]
+
+
 # notebooks 01 to 05 each have a figure the learner turns (tests/test_interactive.py)
 TURNABLE = [n for n in NAMES if n[:2] in {"01", "02", "03", "04", "05"}]
 

@@ -37,7 +37,7 @@ help:
 	@echo "make lint     ruff on so3lib, tests, tools and the notebooks (part of make test)"
 	@echo "make lint-lib ruff on so3lib, tests and tools (part of make test-lib)"
 	@echo "make slides   a reveal.js deck per notebook in build/slides/ (presents offline)"
-	@echo "make handouts a PDF of each deck, one page per slide, in build/handouts/"
+	@echo "make handouts a PDF of each deck, one page per slide with its figures, in build/handouts/"
 	@echo "make slides-solutions  the decks with the worked solutions, build/slides-solutions/"
 	@echo "make book     the course as a Jupyter Book, build/book/index.html (reads offline)"
 	@echo "make pdf      the whole course as one PDF, build/course.pdf"
@@ -146,7 +146,8 @@ slides: $(STAMP)
 slides-solutions: $(STAMP)
 	$(BIN)/python -m tools.slides --solutions
 
-# One PDF page per slide, printed by Chromium through reveal's print view, offline.
+# One PDF page per slide, printed by Chromium through reveal's print view, offline; each page
+# holds its slide's figures (a 3-D figure as a still), checked with pdfimages when present.
 handouts: $(STAMP)
 	$(BIN)/python -m tools.slides --handouts
 

@@ -415,6 +415,13 @@ def test_principal_log_so3lib_log_is_refused_but_would_pass():
     assert check_principal_log.__wrapped__ is not None
     _says(check_principal_log(so3lib.log), "It calls log, a logarithm")
     _says(check_principal_log(lambda R: so3lib.angle(R) * np.ones(3)), "It calls angle")
+
+    def by_logm(R):
+        from scipy.linalg import logm
+        L = np.real(logm(R))
+        return np.array([L[2, 1], L[0, 2], L[1, 0]])
+
+    _says(check_principal_log(by_logm), "It calls scipy.linalg.logm, a logarithm")
     assert ex.LOG_TOL_45 == LOG_TOL_45
 
 

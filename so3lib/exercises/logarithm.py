@@ -474,12 +474,16 @@ _LOG_CODES = _log_codes()
 def _logarithms_called(func, *args):
     """Run ``func(*args)``; return its result (or the exception) and the names of the
     logarithms it called: so3lib's ``log`` and ``angle`` and the private helpers of
-    ``so3lib.so3`` behind them, and anything in SciPy's ``scipy.spatial.transform`` (``Rotation``)."""
+    ``so3lib.so3`` behind them, anything in SciPy's ``scipy.spatial.transform`` (``Rotation``),
+    and SciPy's general matrix logarithm ``scipy.linalg.logm``."""
     def name_of(code):
         if code in _LOG_CODES:
             return _LOG_CODES[code]
-        if "scipy/spatial/transform" in code.co_filename.replace("\\", "/"):
+        path = code.co_filename.replace("\\", "/")
+        if "scipy/spatial/transform" in path:
             return f"scipy.spatial.transform ({code.co_name})"
+        if "scipy/linalg" in path and code.co_name == "logm":
+            return "scipy.linalg.logm"
         return None
 
     with _calls_watched(name_of) as seen:
@@ -620,8 +624,8 @@ def check_principal_log(func):
     r"""Exercise 4.5 (the whole logarithm): ``func(R)`` must return the principal
     logarithm of the rotation ``R``, a vector :math:`\varphi` with
     :math:`e^{\hat\varphi} = R` and :math:`\lVert\varphi\rVert \le \pi`, accurate at every
-    angle, without calling a logarithm (so3lib's ``log`` or ``angle``, their helpers, or
-    SciPy's rotations: the checker watches the calls).
+    angle, without calling a logarithm (so3lib's ``log`` or ``angle``, their helpers,
+    SciPy's rotations or ``scipy.linalg.logm``: the checker watches the calls).
 
     Each test rotation is built from the rotation vector it must give back: ``exp(phi)``
     with :math:`\lVert\varphi\rVert < \pi` (from 1e-12 rad to :math:`\pi - 10^{-10}`), the

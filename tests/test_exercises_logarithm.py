@@ -453,6 +453,20 @@ def test_principal_log_wrong_answers_get_a_message(student, says):
     _says(check_principal_log(student), says)
 
 
+def test_principal_log_names_the_symmetric_part_for_c_below_0():
+    def plus_identity(R):           # (4.14)'s R + I used below pi: not parallel to n there
+        if np.trace(R) >= 1:
+            return _principal_log(R)
+        v = _vee_skew(R)
+        theta = np.arctan2(np.linalg.norm(v) / 2, (np.trace(R) - 1) / 2)
+        B = R + np.eye(3)
+        j = int(np.argmax(np.diag(B)))
+        n = B[:, j] / np.linalg.norm(B[:, j])
+        return theta * (n if n @ v >= 0 else -n)
+
+    _says(check_principal_log(plus_identity), "2.5 rad(.|\\n)*mind the - c I")
+
+
 def test_principal_log_zero_and_nan_at_an_exact_half_turn():
     def zero_at_pi(R):
         return np.zeros(3) if np.array_equal(R, R.T) and np.trace(R) < 0 else _principal_log(R)

@@ -709,6 +709,11 @@ def check_principal_log(func):
             elif err < 1e-3 * scale:
                 hint = ("Close, but it has lost digits. Take the angle from atan2(s, c), "
                         "(4.9), and use the same s in theta / (2 s) of (4.11).")
+            elif theta > np.pi / 2:
+                hint = ("exp of your answer is not R. Here c < 0: the axis is the column with "
+                        "the largest diagonal entry of (4.15), (1/2)(R + R^T) - c I = (1 - c) n "
+                        "n^T (mind the - c I), normalised, with the sign of (4.16); the angle "
+                        "is atan2(s, c).")
             else:
                 hint = ("exp of your answer is not R. The logarithm is theta n: theta = "
                         "atan2(s, c) from (4.9), and theta / (2 s) (R - R^T)^vee, (4.11), for "

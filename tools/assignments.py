@@ -93,6 +93,22 @@ class HideTestTracebacks(Preprocessor):
 # Feedback: the checker's message and the score of each exercise; no hidden test.
 c.GenerateFeedback.preprocessors = [GetGrades, ClearHiddenTests, HideTestTracebacks,
                                     CSSHTMLHeaderPreprocessor]
+
+# Autograde: the learner's notebook runs in a bubblewrap sandbox; the hidden tests run
+# here, in nbgrader's process, against plain data from it (tools/trusted_grader.py).
+import sys  # noqa: E402
+sys.path.insert(0, {repo!r})
+from nbconvert.preprocessors import ClearMetadataPreprocessor  # noqa: E402
+from nbgrader.preprocessors import (AssignLatePenalties, CheckCellMetadata,  # noqa: E402
+                                    IgnorePattern, LimitOutput, SaveAutoGrades)
+from tools.trusted_grader import SandboxExecute  # noqa: E402
+
+c.Autograde.autograde_preprocessors = [SandboxExecute, IgnorePattern, ClearMetadataPreprocessor,
+                                       LimitOutput, SaveAutoGrades, AssignLatePenalties,
+                                       CheckCellMetadata]
+c.SandboxExecute.course = {root!r}
+c.SandboxExecute.timeout = {timeout}
+c.SandboxExecute.notebook_timeout = {notebook_timeout}
 '''
 DEFAULT_TIMEOUT = 60
 
@@ -302,10 +318,12 @@ def source_notebook(nb, path="notebook"):
 
 
 
-def write_config(course, timeout=DEFAULT_TIMEOUT):
+def write_config(course, timeout=DEFAULT_TIMEOUT, notebook_timeout=None):
     course = Path(course)
     (course / "nbgrader_config.py").write_text(
-        CONFIG.format(course_id=COURSE_ID, root=str(course.resolve()), timeout=int(timeout)),
+        CONFIG.format(course_id=COURSE_ID, root=str(course.resolve()), timeout=int(timeout),
+                      repo=str(Path(__file__).resolve().parent.parent),
+                      notebook_timeout=int(notebook_timeout or max(900, 20 * timeout))),
         encoding="utf-8")
 
 

@@ -58,6 +58,11 @@ WHAT = {
     "chromium": ("chromium", chromium,
                  "the browser tests (decks, book, JupyterLab), make handouts and make pdf"),
     "npm": ("npm", npm_or_cache, "make slides and make book fetch reveal.js and MathJax with it, once"),
+    "bwrap": ("bubblewrap", lambda: shutil.which("bwrap"),
+              "make grade runs each learner's notebook in its sandbox (no network, no view of "
+              "the answer key or the gradebook); the grading tests"),
+    "setpriv": ("util-linux", lambda: shutil.which("setpriv") and shutil.which("prlimit"),
+                "make grade: the sandbox's user and limits (setpriv, prlimit)"),
     "pdftotext": ("poppler-utils", lambda: shutil.which("pdftotext"),
                   "make pdf (page numbers of the contents) and the test of the course's PDF"),
     "pdfinfo": ("poppler-utils", lambda: shutil.which("pdfinfo"), "the handouts' page counts"),
@@ -76,6 +81,7 @@ WHAT = {
 }
 NEEDED = {
     "test": list(WHAT),
+    "grade": ["bwrap", "setpriv"],
     "pdf": ["chromium", "npm", "pdftotext", "font Liberation Sans", "font DejaVu Sans Mono",
             "font DejaVu Sans Mono Oblique"],
 }

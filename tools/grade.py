@@ -87,9 +87,11 @@ def _first_line(text, limit=300):
 def cell_reason(cell, timeout):
     """Why a test cell lost its points, read from its error output ("" when none)."""
     errors = [out for out in cell.get("outputs", []) if out.get("output_type") == "error"]
-    # a cell stopped at the time limit shows the interrupt and nbgrader's timeout error
-    if any(out.get("ename") in ("CellTimeoutError", "KeyboardInterrupt") for out in errors):
-        return f"time limit: the cell ran longer than {timeout} s and was stopped"
+    # a cell stopped at the time limit (a KeyboardInterrupt the learner's code raised
+    # itself is not one: the trusted grader names it)
+    for out in errors:
+        if out.get("ename") == "CellTimeoutError":
+            return _first_line(out.get("evalue", "")) or f"time limit: the cell ran longer than {timeout} s"
     for out in errors:
         name, value = out.get("ename", ""), _first_line(out.get("evalue", ""))
         if name == "AssertionError":
@@ -162,6 +164,9 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
     course = Path(course).resolve()
     if not (course / "gradebook.db").exists() or not (course / "source").is_dir():
         raise SystemExit(f"no coursework in {course}: run `make assignments` first")
+    from tools import sandbox
+    if sandbox.missing():           # never run a learner's code outside the sandbox
+        raise SystemExit(f"make grade runs each notebook in a sandbox: {sandbox.missing()}")
     submitted = submitted_folder(submitted, course)
     notebook_timeout = notebook_timeout or max(900, 20 * timeout)
     with _gradebook(course) as gb:
@@ -186,7 +191,9 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
         begin = time.monotonic()
         try:
             run = nbgrader(course, "autograde", assignment, f"--student={student}", "--force",
-                           f"--Execute.timeout={int(timeout)}", "--log-level=ERROR",
+                           f"--SandboxExecute.timeout={int(timeout)}",
+                           f"--SandboxExecute.notebook_timeout={int(notebook_timeout)}",
+                           "--log-level=ERROR",
                            timeout=notebook_timeout, check=False)
             failed = f"autograde failed: {_tail(run)}" if run.returncode != 0 else ""
         except Exception as err:        # subprocess.TimeoutExpired, above all

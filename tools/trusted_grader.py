@@ -1,0 +1,616 @@
+"""The grade, decided in a process the learner's code never runs in.
+
+nbgrader's `autograde` keeps its part (the source's test cells put back, the gradebook,
+late penalties, the feedback), but its `Execute` step is replaced by `SandboxExecute`:
+
+1. the learner's notebook runs cell by cell in a sandboxed kernel (tools/sandbox.py); a
+   test cell runs there only with its visible part, the checker call, whose message goes
+   to the feedback. The hidden tests never enter the sandbox.
+2. the hidden tests run here, in nbgrader's own process, in a namespace built once per
+   assignment from the instructor's source notebook (its set-up cells and solutions run
+   here, never the learner's). The names the answer cells define are bound to stand-ins:
+   a function calls the learner's function in the sandbox with plain data and gets plain
+   numbers and arrays back; a value is fetched as plain data. So `np.allclose` is
+   NumPy's own, a test cell cannot be blanked and a result cannot choose how it compares.
+3. what the learner's code entered in the libraries during a call (recorded in the
+   sandbox, in every thread) is replayed to the hidden test's own profile hook, and the
+   names it entered join its code's names, so a check of "without so3lib's C" sees an
+   alias, `functools.partial`, `getattr` or a thread. A library function the hidden test
+   turns off (`so3lib.C = None`) is turned off in the sandbox too, for every way of
+   reaching it.
+4. the test cell's outputs are the checker's message and, when the hidden test failed,
+   an error that says what happened (a hidden test failed, not answered, a time limit,
+   what the learner's code raised). stderr never costs points.
+"""
+
+import ast
+import contextlib
+import io
+import json
+import os
+import socket
+import sys
+import time
+import types
+from pathlib import Path
+
+from tools import sandbox
+
+BEGIN_HIDDEN, END_HIDDEN = "### BEGIN HIDDEN TESTS", "### END HIDDEN TESTS"
+BEGIN_SOLUTION = "### BEGIN SOLUTION"
+
+
+def split_test(source):
+    """(visible, hidden) code of a test cell."""
+    visible, hidden, inside = [], [], False
+    for line in source.splitlines():
+        if line.strip() == BEGIN_HIDDEN:
+            inside = True
+        elif line.strip() == END_HIDDEN:
+            inside = False
+        else:
+            (hidden if inside else visible).append(line)
+    return "\n".join(visible), "\n".join(hidden)
+
+
+def _python(source):
+    from IPython.core.inputtransformer2 import TransformerManager
+    return TransformerManager().transform_cell(source)
+
+
+def stub_names(source):
+    """(functions, values) that an answer cell's stub defines."""
+    stub = source.split(BEGIN_SOLUTION)[0]
+    try:
+        tree = ast.parse(_python(stub))
+    except SyntaxError:
+        return [], []
+    funcs = [n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))]
+    values = []
+    for n in tree.body:
+        targets = n.targets if isinstance(n, ast.Assign) else [n.target] if isinstance(n, ast.AnnAssign) else []
+        for t in targets:
+            for node in ast.walk(t):
+                if isinstance(node, ast.Name):
+                    values.append(node.id)
+    return funcs, values
+
+
+def _meta(cell):
+    return cell.get("metadata", {}).get("nbgrader", {})
+
+
+def is_test(cell):
+    m = _meta(cell)
+    return cell.get("cell_type") == "code" and m.get("grade") and not m.get("solution")
+
+
+def is_answer(cell):
+    m = _meta(cell)
+    return cell.get("cell_type") == "code" and m.get("solution") and not m.get("grade")
+
+
+# --- the instructor's namespace ---------------------------------------------------------
+
+_REFERENCE = {}
+
+
+def reference_namespace(source_path):
+    """The namespace of the source notebook run here (set-up cells and solutions; no test
+    cell), built once per file and process."""
+    import nbformat
+    path = Path(source_path).resolve()
+    key = (str(path), path.stat().st_mtime)
+    if key in _REFERENCE:
+        return _REFERENCE[key]
+    os.environ.setdefault("MPLBACKEND", "agg")
+    from IPython.core.interactiveshell import InteractiveShell
+    shell = InteractiveShell.instance()
+    shell.user_ns.clear()
+    shell.init_user_ns()
+    nb = nbformat.read(str(path), as_version=4)
+    here = os.getcwd()
+    os.chdir(path.parent)
+    try:
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            for source in needed_cells(nb):
+                shell.run_cell(source, store_history=False, silent=True)
+    finally:
+        os.chdir(here)
+        try:
+            import matplotlib.pyplot as plt
+            plt.close("all")
+        except Exception:
+            pass
+    ns = {k: v for k, v in shell.user_ns.items() if not k.startswith("_i") and k not in ("In", "Out", "exit", "quit")}
+    _REFERENCE[key] = ns
+    return ns
+
+
+def _defines_uses(source):
+    """(names a cell binds at top level, names it reads), or None when it cannot be read."""
+    try:
+        tree = ast.parse(_python(source))
+    except SyntaxError:
+        return None
+    defined, used = set(), set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name):
+            (defined if isinstance(node.ctx, ast.Store) else used).add(node.id)
+        elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            defined.add(node.name)
+        elif isinstance(node, ast.alias):
+            defined.add((node.asname or node.name).split(".")[0])
+        elif isinstance(node, ast.Attribute):
+            pass
+    return defined, used
+
+
+def needed_cells(nb):
+    """The source cells the hidden tests need, in order: those that bind a name a hidden
+    test reads, and, in turn, what those cells read (figures and prose cells are skipped:
+    they cost most of a notebook's time). A cell that cannot be parsed is kept."""
+    import builtins
+    cells = [c for c in nb.cells if c.cell_type == "code" and not is_test(c)]
+    learner = set()
+    for c in nb.cells:
+        if is_answer(c):
+            f, v = stub_names(c.source)
+            learner |= set(f) | set(v)
+    needed = set()
+    for c in nb.cells:
+        if is_test(c):
+            info = _defines_uses(split_test(c.source)[1])
+            needed |= (info[1] - info[0]) if info else set()
+    needed -= learner | set(dir(builtins))
+    keep = [False] * len(cells)
+    for i in range(len(cells) - 1, -1, -1):
+        info = _defines_uses(cells[i].source)
+        if info is None or info[0] & needed:
+            keep[i] = True
+            if info:
+                needed |= info[1] - info[0] - set(dir(builtins))
+    # a kept cell may read a name bound only later in the notebook's order: keep earlier
+    # binders of everything the kept cells read
+    for i in range(len(cells)):
+        info = _defines_uses(cells[i].source)
+        if info and not keep[i] and info[0] & needed and not info[1] - needed - info[0]:
+            keep[i] = True
+    return [c.source for c, k in zip(cells, keep) if k]
+
+
+# --- stand-ins for the learner's names ---------------------------------------------------
+
+class StudentError(Exception):
+    """The learner's code raised, or returned something that is not plain data."""
+
+    def __init__(self, name, message):
+        super().__init__(message)
+        self.ename = name
+
+
+class TimeLimit(Exception):
+    pass
+
+
+class NotAnswered(Exception):
+    pass
+
+
+class Unanswered:
+    """The value of a stub left as handed out (`c = ...`): any use of it fails."""
+
+    def __init__(self, name):
+        self._name = name
+
+    def _fail(self, *args, **kwargs):
+        raise NotAnswered(f"{self._name} is still `...`")
+
+    __float__ = __int__ = __index__ = __complex__ = __array__ = __iter__ = __len__ = _fail
+    __getitem__ = __bool__ = __add__ = __mul__ = __sub__ = __truediv__ = __eq__ = _fail
+    __hash__ = object.__hash__
+
+    def __repr__(self):
+        return "Ellipsis"
+
+
+class FakeCode:
+    """What the hidden test may read of the learner's code: names and inner code."""
+
+    def __init__(self, desc, extra=()):
+        self.co_name = desc.get("name", "")
+        self.co_names = tuple(desc.get("names", [])) + tuple(sorted(set(extra) - set(desc.get("names", []))))
+        self.co_consts = tuple(FakeCode(d) for d in desc.get("consts", []))
+        self.co_filename = "<learner>"
+        self.co_firstlineno = 0
+        self.co_freevars = ()
+
+
+class FakeFrame:
+    def __init__(self, code):
+        self.f_code = code
+
+
+class _Named:
+    def __init__(self, name):
+        self.__name__ = name
+
+
+_CODE_INDEX = {}
+
+
+def _trusted_code(filename, line, name):
+    """This process's code object at FILENAME:LINE called NAME (for the profile hook's
+    `frame.f_code is ...` and `in {...}`), or a stand-in with those three."""
+    if filename not in _CODE_INDEX:
+        index = {}
+        for module in list(sys.modules.values()):
+            if getattr(module, "__file__", None) and os.path.realpath(module.__file__) == os.path.realpath(filename):
+                _index_module(module, index)
+        _CODE_INDEX[filename] = index
+    code = _CODE_INDEX[filename].get((line, name))
+    if code is None:
+        code = FakeCode({"name": name})
+        code.co_filename, code.co_firstlineno = filename, line
+    return code
+
+
+def _index_module(module, index):
+    import inspect
+    seen, todo = set(), list(vars(module).values())
+    while todo:
+        obj = todo.pop()
+        if id(obj) in seen or len(seen) > 20000:
+            continue
+        seen.add(id(obj))
+        if isinstance(obj, types.CodeType):
+            index.setdefault((obj.co_firstlineno, obj.co_name), obj)
+            todo += [k for k in obj.co_consts if isinstance(k, types.CodeType)]
+            continue
+        for attr in ("__wrapped__", "_implementation", "__func__", "fget", "fset"):
+            inner = getattr(obj, attr, None) if not isinstance(obj, types.ModuleType) else None
+            if inner is not None:
+                todo.append(inner)
+        if inspect.isfunction(obj):
+            todo.append(obj.__code__)
+        elif inspect.isclass(obj) and getattr(obj, "__module__", None) == module.__name__:
+            todo += list(vars(obj).values())
+
+
+class Channel:
+    """The socket between this process and the grader's helper in the sandboxed kernel."""
+
+    def __init__(self, run):
+        self.run = run
+        self.sock = self.stream = None
+        self.entered_names = {}
+
+    def open(self, budget):
+        box = self.run.box
+        path = box.scratch / "grader.sock"
+        path.unlink(missing_ok=True)
+        listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        listener.bind(str(path))
+        if os.geteuid() == 0:
+            os.chown(path, sandbox.NOBODY, sandbox.NOBODY)
+        listener.listen(1)
+        listener.settimeout(min(budget, 20))
+        self.msg_id = box.client.execute(f"import _so3grade; _so3grade.serve({str(path)!r})",
+                                         silent=True, store_history=False)
+        try:
+            self.sock, _ = listener.accept()
+        except OSError:
+            raise StudentError("GraderUnreachable", "the grader could not reach the notebook's "
+                               "kernel (was the kernel changed or stopped?)") from None
+        finally:
+            listener.close()
+        self.stream = self.sock.makefile("rwb")
+
+    def request(self, req):
+        if self.stream is None:
+            self.open(self.run.left())
+        self.sock.settimeout(max(0.1, self.run.left()))
+        try:
+            self.stream.write(json.dumps(req).encode() + b"\n")
+            self.stream.flush()
+            line = self.stream.readline(200_000_000)
+        except (socket.timeout, TimeoutError):
+            self.run.time_out()
+            raise TimeLimit() from None
+        except OSError:
+            line = b""
+        if not line:
+            self.close()
+            if not self.run.box.alive():
+                raise StudentError("KernelDied", "the notebook's kernel stopped (memory or process "
+                                   "limit, or it was ended)")
+            raise StudentError("GraderUnreachable", "the kernel stopped answering the grader")
+        try:
+            return json.loads(line)
+        except ValueError:
+            raise StudentError("TypeError", "the kernel answered with something that is not data") from None
+
+    def close(self):
+        if self.stream is not None:
+            try:
+                self.sock.settimeout(2)
+                self.stream.write(b'{"op": "done"}\n')
+                self.stream.flush()
+            except OSError:
+                pass
+            with contextlib.suppress(OSError):
+                self.sock.close()
+            self.stream = self.sock = None
+            self.run.wait_idle(self.msg_id, 5)
+
+
+def _disabled(ns):
+    """(module, name) of library functions the hidden test has set to None."""
+    out = []
+    for mod_name, module in list(sys.modules.items()):
+        if not mod_name.startswith(("so3lib", "numpy.linalg", "scipy.linalg")):
+            continue
+        for name, value in list(vars(module).items()):
+            if value is None and name in _PRISTINE.get(mod_name, ()):
+                out.append((mod_name, name))
+    return out
+
+
+_PRISTINE = {}
+
+
+def _snapshot():
+    for mod_name, module in list(sys.modules.items()):
+        if mod_name.startswith(("so3lib", "numpy.linalg", "scipy.linalg")) and mod_name not in _PRISTINE:
+            _PRISTINE[mod_name] = {n for n, v in vars(module).items() if callable(v)}
+
+
+class StudentFunction:
+    """Calls the learner's function NAME in the sandbox with plain data."""
+
+    def __init__(self, channel, name):
+        self._channel, self.__name__, self.__qualname__ = channel, name, name
+
+    def __call__(self, *args, **kwargs):
+        if kwargs:
+            raise TypeError("keyword arguments are not passed to the sandbox")
+        ch = self._channel
+        reply = ch.request({"op": "call", "name": self.__name__, "args": sandbox.encode(list(args)),
+                            "disabled": _disabled(None)})
+        entered = [tuple(e) for e in reply.get("entered", [])]
+        ch.entered_names.setdefault(self.__name__, set()).update(e[2] for e in entered)
+        hook = sys.getprofile()
+        if hook is not None and entered:
+            sys.setprofile(None)
+            try:
+                for filename, line, name in entered:
+                    hook(FakeFrame(_trusted_code(filename, line, name)), "call", None)
+            finally:
+                sys.setprofile(hook)
+        if reply.get("tampered"):
+            raise StudentError("RuntimeError", f"{self.__name__} switched off the grader's watch "
+                               "(sys.setprofile / settrace)")
+        if "error" in reply:
+            raise StudentError(*reply["error"])
+        try:
+            return sandbox.decode(reply["ok"])
+        except (KeyError, ValueError):
+            raise StudentError("TypeError", f"{self.__name__} returned something that is not numbers") from None
+
+    def _describe(self):
+        reply = self._channel.request({"op": "describe", "name": self.__name__})
+        return reply.get("ok") or {}
+
+    @property
+    def __code__(self):
+        desc = self._describe()
+        return FakeCode(desc.get("code", {}), self._channel.entered_names.get(self.__name__, ()))
+
+    @property
+    def __globals__(self):
+        desc = self._describe()
+        space = {}
+        for name, g in desc.get("globals", {}).items():
+            if "own" in g:
+                fn = _Named(g.get("name", name))
+                fn.__code__ = FakeCode(g["own"], self._channel.entered_names.get(name, ()))
+                fn.__globals__ = space
+                space[name] = fn
+            else:
+                space[name] = _Named(g.get("name", ""))
+        return space
+
+
+def fetch_value(channel, name):
+    reply = channel.request({"op": "value", "name": name})
+    if "error" in reply:
+        raise StudentError(*reply["error"])
+    value = sandbox.decode(reply["ok"])
+    return Unanswered(name) if value is Ellipsis else value
+
+
+# --- one notebook ------------------------------------------------------------------------
+
+class NotebookRun:
+    """The learner's notebook in its sandbox, cell by cell, with the hidden tests here."""
+
+    def __init__(self, nb, source_path, files=None, timeout=60, notebook_timeout=900):
+        self.nb, self.source_path, self.files = nb, Path(source_path), files
+        self.timeout, self.notebook_timeout = timeout, notebook_timeout
+        self.box, self.done = None, []           # cells run so far (re-run after a restart)
+        self.deadline = None
+
+    def left(self):
+        return self.deadline - time.monotonic()
+
+    def time_out(self):
+        """A call into the sandbox ran out of time: interrupt, or end and restart it."""
+        self.box.interrupt()
+        self.box.kill()
+        self.restart()
+
+    def restart(self):
+        self.box.start()
+        for code in self.done:
+            if self.box.run(code, self.timeout)["status"] in ("timeout", "died"):
+                break
+
+    def wait_idle(self, msg_id, timeout):
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            try:
+                msg = self.box.client.get_iopub_msg(timeout=0.5)
+            except Exception:
+                if not self.box.alive():
+                    return
+                continue
+            if (msg.get("parent_header", {}).get("msg_id") == msg_id and msg["msg_type"] == "status"
+                    and msg["content"].get("execution_state") == "idle"):
+                return
+        self.box.interrupt()
+
+    def grade(self):
+        from nbformat import from_dict
+        _snapshot()
+        reference = reference_namespace(self.source_path)
+        _snapshot()
+        source = __import__("nbformat").read(str(self.source_path), as_version=4)
+        stubs = {c.metadata.get("nbgrader", {}).get("grade_id"): c.source.split(BEGIN_SOLUTION)[0].rstrip()
+                 for c in source.cells if is_answer(c)}
+        funcs, values = set(), set()
+        for c in source.cells:
+            if is_answer(c):
+                f, v = stub_names(c.source)
+                funcs |= set(f)
+                values |= set(v)
+        end = time.monotonic() + self.notebook_timeout
+        self.box = sandbox.Sandbox(self.files)
+        try:
+            answers = {}
+            for cell in self.nb.cells:
+                if cell.cell_type != "code":
+                    continue
+                if time.monotonic() > end:
+                    cell.outputs = [_error("CellTimeoutError", f"the notebook ran longer than "
+                                           f"{self.notebook_timeout} s in all; this cell was not run")] \
+                        if is_test(cell) else []
+                    continue
+                if is_answer(cell):
+                    answers[_meta(cell).get("grade_id")] = cell.source
+                if not is_test(cell):
+                    result = self.box.run(cell.source, self.timeout)
+                    cell.outputs = [from_dict(o) for o in result["outputs"]]
+                    if result["status"] == "timeout":
+                        cell.outputs.append(from_dict(_error("CellTimeoutError", f"the cell ran longer "
+                                                             f"than {self.timeout} s and was stopped")))
+                    if result.get("killed") or result["status"] == "died":
+                        self.restart()
+                    elif result["status"] != "timeout":
+                        self.done.append(cell.source)
+                    continue
+                visible, hidden = split_test(cell.source)
+                result = self.box.run(visible, self.timeout)
+                if result.get("killed") or result["status"] == "died":
+                    self.restart()
+                outputs = [_as_stdout(o) for o in result["outputs"] if o.get("output_type") != "error"]
+                gid = _meta(cell).get("grade_id", "")
+                answer_id = gid.rsplit("-", 1)[0] + "-answer"
+                stub = answer_id in stubs and answers.get(answer_id, "").strip() == stubs[answer_id].strip()
+                failure = self.hidden_test(hidden, reference, funcs, values, stub)
+                if failure:
+                    outputs.append(failure)
+                cell.outputs = [from_dict(o) for o in outputs]
+        finally:
+            self.box.close()
+        return self.nb
+
+    def hidden_test(self, hidden, reference, funcs, values, stub):
+        """None when the hidden test passes, else the error output that says why."""
+        self.deadline = time.monotonic() + self.timeout
+        channel = Channel(self)
+        ns = dict(reference)
+        try:
+            code = compile(_python(hidden), "<hidden test>", "exec")
+            used = _names_in(code)
+            for name in funcs & used:
+                ns[name] = StudentFunction(channel, name)
+            for name in values & used:
+                ns[name] = fetch_value(channel, name)
+            hook = sys.getprofile()
+            try:
+                with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+                    exec(code, ns)
+            finally:
+                sys.setprofile(hook)
+            return None
+        except TimeLimit:
+            return _error("CellTimeoutError", f"time limit: the learner's code ran longer than "
+                          f"{self.timeout} s and was stopped")
+        except NotAnswered as err:
+            return _error("NotAnswered", f"not answered: {err}")
+        except StudentError as err:
+            if stub and err.ename in ("NotImplementedError", "NameError"):
+                return _error("NotAnswered", "not answered: the answer cell is the stub as handed out")
+            if err.ename == "KeyboardInterrupt":
+                return _error("KeyboardInterrupt", "your code raised KeyboardInterrupt itself "
+                              "(this is not a time limit)")
+            return _error(err.ename, f"your code raised {err.ename}: {err}")
+        except AssertionError as err:
+            if stub:
+                return _error("NotAnswered", "not answered: the answer cell is the stub as handed out")
+            return _error("AssertionError", str(err)[:300])
+        except Exception as err:
+            if stub:
+                return _error("NotAnswered", "not answered: the answer cell is the stub as handed out")
+            return _error(type(err).__name__, f"the hidden test stopped: {type(err).__name__}: "
+                          f"{str(err)[:200]}")
+        finally:
+            channel.close()
+
+
+def _names_in(code):
+    names, todo = set(), [code]
+    while todo:
+        c = todo.pop()
+        names |= set(c.co_names) | set(c.co_varnames) | set(c.co_freevars)
+        todo += [k for k in c.co_consts if isinstance(k, types.CodeType)]
+    return names
+
+
+def _error(name, value):
+    return {"output_type": "error", "ename": name, "evalue": value, "traceback": [f"{name}: {value}"]}
+
+
+def _as_stdout(out):
+    """stderr (a warning) shown in the test cell as text: it never costs the points."""
+    if out.get("output_type") == "stream" and out.get("name") == "stderr":
+        return {"output_type": "stream", "name": "stdout", "text": "(stderr) " + out.get("text", "")}
+    if out.get("output_type") == "execute_result":      # a number here would set the points
+        return {"output_type": "display_data", "data": out.get("data", {}), "metadata": {}}
+    return out
+
+
+# --- nbgrader's side ---------------------------------------------------------------------
+
+try:
+    from nbconvert.preprocessors import Preprocessor
+    from traitlets import Integer, Unicode
+except ImportError:          # pragma: no cover
+    Preprocessor = object
+
+
+class SandboxExecute(Preprocessor):
+    """nbgrader's Execute, replaced: the learner's code in the sandbox, the verdicts here."""
+
+    enabled = True          # nbconvert's preprocessors are off unless enabled
+    course = Unicode("").tag(config=True)
+    timeout = Integer(60).tag(config=True)
+    notebook_timeout = Integer(900).tag(config=True)
+
+    def preprocess(self, nb, resources):
+        info = resources.get("nbgrader", {})
+        assignment, notebook = info.get("assignment"), info.get("notebook")
+        source = Path(self.course) / "source" / assignment / f"{notebook}.ipynb"
+        files = Path(self.course) / "autograded" / info.get("student", "") / assignment
+        run = NotebookRun(nb, source, files if files.is_dir() else None, self.timeout, self.notebook_timeout)
+        return run.grade(), resources

@@ -28,6 +28,7 @@ import csv
 import html
 import json
 import os
+import re
 import shutil
 import sys
 import time
@@ -102,52 +103,102 @@ def cell_reason(cell, timeout):
     return ""
 
 
+_COPY_SUFFIX = re.compile(r"(\s*\(\d+\)|[\s_-]*copy\d*|[\s_-]+(final|last|new|done|submitted?|"
+                          r"submission|v\d+|version\s*\d+|\d+))+$", re.I)
+
+
+def _plain(name):
+    """NAME without the suffixes a download or a copy adds: "04_logarithm (1)",
+    "04_logarithm-Copy1", "04_logarithm_final" are all "04_logarithm"."""
+    return _COPY_SUFFIX.sub("", Path(name).stem if name.endswith(".ipynb") else name).strip().lower()
+
+
+def match_name(name, candidates):
+    """The one of CANDIDATES that NAME is a misnamed copy of, or None."""
+    plain = _plain(name)
+    found = [c for c in candidates if _plain(c) == plain]
+    return found[0] if len(found) == 1 else None
+
+
 def _stage(submitted, course, known, log):
     """Copy DIR into the course's submitted/ and sort out what cannot be graded.
 
-    Returns (jobs, problems): jobs is a list of (student, assignment); problems maps
-    (student, assignment) to the reason it scores 0.
+    A misnamed copy is found and graded under its right name, and the problem column says
+    so: a notebook renamed by a download or a copy ("04_logarithm (1).ipynb",
+    "04_logarithm-Copy1.ipynb", beside an "Untitled.ipynb"), an assignment folder with a
+    suffix ("04_logarithm_final"), a notebook loose in the student's folder. Anything
+    else is named in the problem column as not graded. Returns (jobs, problems): jobs is a
+    list of (student, assignment); problems maps (student, assignment) to what happened.
     """
     submitted, target = Path(submitted).resolve(), (Path(course) / "submitted").resolve()
     jobs, problems = [], {}
     same = submitted == target
     for student_dir in sorted(p for p in submitted.iterdir() if p.is_dir() and not p.name.startswith(".")):
-        for assignment_dir in sorted(p for p in student_dir.iterdir() if p.is_dir() and not p.name.startswith(".")):
-            key = (student_dir.name, assignment_dir.name)
-            if assignment_dir.name not in known:
-                log(f"warning: {student_dir.name}/{assignment_dir.name}: no such assignment; skipped")
+        found = {}
+        for child in sorted(student_dir.iterdir()):
+            if child.name.startswith(".") or not (child.is_dir() or child.suffix == ".ipynb"):
                 continue
-            dest = target / student_dir.name / assignment_dir.name
-            if not same:
-                if dest.exists():
-                    shutil.rmtree(dest)
-                shutil.copytree(assignment_dir, dest, ignore=shutil.ignore_patterns(".ipynb_checkpoints"))
+            name = child.name if child.is_dir() and child.name in known else match_name(child.name, known)
+            if name is None:
+                log(f"warning: {student_dir.name}/{child.name}: no such assignment; skipped")
+                continue
+            found.setdefault(name, []).append(child)
+        for assignment, sources in found.items():
+            key = (student_dir.name, assignment)
             reasons = []
-            expected = sorted(p.name for p in (Path(course) / "source" / assignment_dir.name).glob("*.ipynb"))
+            exact = [p for p in sources if p.is_dir() and p.name == assignment]
+            chosen = exact[0] if exact else max(sources, key=lambda p: (p.is_dir(), p.stat().st_mtime))
+            for other in sources:
+                if other is not chosen:
+                    reasons.append(f"also found {other.name} (not graded)")
+            dest = target / student_dir.name / assignment
+            if chosen.is_dir() and chosen.name != assignment:
+                reasons.append(f"graded the folder {chosen.name} as {assignment}")
+            elif not chosen.is_dir():
+                reasons.append(f"graded {chosen.name}, found loose in the student's folder")
+            if not same or chosen != dest:
+                if dest.exists() and not same:
+                    shutil.rmtree(dest)
+                if chosen.is_dir():
+                    shutil.copytree(chosen, dest, ignore=shutil.ignore_patterns(".ipynb_checkpoints"),
+                                    dirs_exist_ok=True)
+                else:
+                    dest.mkdir(parents=True, exist_ok=True)
+                    shutil.copy2(chosen, dest / chosen.name)
+            expected = sorted(p.name for p in (Path(course) / "source" / assignment).glob("*.ipynb"))
             notebooks = sorted(dest.glob("*.ipynb"))
             others = [p for p in notebooks if p.name not in expected]
             missing = [name for name in expected if not (dest / name).exists()]
-            if len(missing) == 1 and len(others) == 1 and not same:
-                # a download renamed it ("01_x (1).ipynb"): grade it under its own name
-                others[0].rename(dest / missing[0])
-                reasons.append(f"graded {others[0].name} as {missing[0]}")
-                notebooks = sorted(dest.glob("*.ipynb"))
-            elif missing:
-                reasons.append(f"missing {', '.join(missing)}" +
-                               (f" (found {', '.join(p.name for p in others)})" if others else ""))
+            for name in list(missing):
+                like = [p for p in others if match_name(p.name, [name])]
+                if not like and len(missing) == 1 and len(others) == 1:
+                    like = others            # the only other notebook: graded, and said so
+                if like:
+                    pick = max(like, key=lambda p: p.stat().st_mtime)
+                    shutil.copy2(pick, dest / name)
+                    if not same:
+                        pick.unlink()
+                    reasons.append(f"graded {pick.name} as {name}")
+                    others.remove(pick)
+                    missing.remove(name)
+            for other in others:
+                reasons.append(f"also found {other.name} (not graded)")
+            if missing:
+                reasons.append(f"missing {', '.join(missing)}")
+            notebooks = [dest / name for name in expected if (dest / name).exists()]
             for nb in notebooks:
                 why = unreadable(nb)
                 if why:
                     reasons.append(f"{nb.name}: {why}")
                     if not same:
                         nb.unlink()          # keep the staged copy gradable; DIR is untouched
-            if not notebooks:
+            if not any(dest.glob("*.ipynb")):
                 reasons.append("no notebook submitted")
             if reasons:
                 problems[key] = "; ".join(reasons)
             # a corrupt notebook left in place (DIR is the course's own submitted/) is not run
             unreadable_left = same and any("not a valid notebook" in r for r in reasons)
-            if any(dest.glob("*.ipynb")) and not unreadable_left:
+            if any(dest.glob("*.ipynb")) and not unreadable_left and notebooks:
                 jobs.append(key)
     return jobs, problems
 

@@ -262,7 +262,7 @@ class OfflineDeck:
         self.page.on("pageerror", lambda e: self.errors.append(f"page error: {e}"))
         self.page.on("console", lambda m: self.errors.append(f"console {m.type}: {m.text}")
                      if m.type == "error" else None)
-        self.page.set_default_timeout(60_000)
+        self.page.set_default_timeout(180_000)  # a loaded machine takes minutes to lay out
         self.page.goto(Path(deck).resolve().as_uri() + query, wait_until="commit")
 
     def _route(self, route):
@@ -273,10 +273,10 @@ class OfflineDeck:
             self.blocked.append(url)
             route.abort()
 
-    def ready(self):
+    def ready(self, timeout=None):
         # polled by a timer: a background tab runs no animation frames to poll with
         self.page.wait_for_function("document.documentElement.dataset.deckReady === '1'",
-                                    polling=250)
+                                    polling=250, timeout=timeout)
         return self.page
 
     def close(self):
@@ -850,6 +850,11 @@ async () => {
 """
 
 
+# A deck's print view may take minutes to lay out on a loaded machine (a session of tests
+# keeps every deck open meanwhile); nobody waits at the screen for a handout.
+PRINT_TIMEOUT_MS = 300_000
+
+
 def handouts(decks, out=OUT_HANDOUTS, browser=None):
     """Print each deck through reveal's print view (?print-pdf) to OUT/NN_name.pdf, one page
     per slide, with Chromium and no network; returns the PDF paths. Every page holds its
@@ -876,9 +881,9 @@ def handouts(decks, out=OUT_HANDOUTS, browser=None):
             d = OfflineDeck(browser, deck, WIDTH, HEIGHT, query="?print-pdf")
             opened.append(d)
             d.page.bring_to_front()
-            page = d.ready()
+            page = d.ready(timeout=PRINT_TIMEOUT_MS)
             page.wait_for_function("document.querySelectorAll('.reveal .pdf-page').length > 0",
-                                   polling=250)
+                                   polling=250, timeout=PRINT_TIMEOUT_MS)
             page.evaluate(STILLS_JS)
             page.emulate_media(media="print")
             want = page.evaluate(PAGE_PICTURES_JS)

@@ -106,9 +106,9 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
     at :math:`\pm\pi`. The convention: the result lies in the *doubles*
     ``(-np.pi, np.pi]``, so a half-turn gives ``np.pi``, never ``-np.pi`` (spec S27).
     atan2 returns the double ``-np.pi`` on the cut (``R[1, 0]`` the float ``-0.0``,
-    ``R[0, 0] < 0``) and next to it (a negative ``R[1, 0]`` so small, below about 3e-16,
-    that :math:`-\pi + |R_{21}|` rounds to that double); ``np.pi`` is returned instead,
-    the same half-turn to within 5e-16 rad (two ulps of pi).
+    ``R[0, 0] < 0``) and next to it (a negative ``R[1, 0]`` up to about 3.4e-16 in size,
+    so small that :math:`-\pi + |R_{21}|` rounds to that double); ``np.pi`` is returned
+    instead, the same half-turn to within 5e-16 rad (two ulps of pi).
 
     Parameters
     ----------

@@ -90,9 +90,26 @@ class HideTestTracebacks(Preprocessor):
         return cell, resources
 
 
+class OnlyExercises(Preprocessor):
+    """The feedback page shows the exercises (task, answer, checker's message, score),
+    not the whole lesson again: a page stays well under 300 kB."""
+
+    enabled = True
+
+    def preprocess(self, nb, resources):
+        keep = []
+        for cell in nb.cells:
+            meta = cell.metadata.get("nbgrader", {{}})
+            task = cell.cell_type == "markdown" and "Exercise" in (cell.source.splitlines() or [""])[0]
+            if meta.get("grade") or meta.get("solution") or task:
+                keep.append(cell)
+        nb.cells = keep
+        return nb, resources
+
+
 # Feedback: the checker's message and the score of each exercise; no hidden test.
 c.GenerateFeedback.preprocessors = [GetGrades, ClearHiddenTests, HideTestTracebacks,
-                                    CSSHTMLHeaderPreprocessor]
+                                    OnlyExercises, CSSHTMLHeaderPreprocessor]
 
 # Autograde: the learner's notebook runs in a bubblewrap sandbox; the hidden tests run
 # here, in nbgrader's process, against plain data from it (tools/trusted_grader.py).

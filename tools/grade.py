@@ -29,7 +29,9 @@ import html
 import json
 import os
 import re
+import select
 import shutil
+import subprocess
 import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -237,31 +239,61 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
                 gb.remove_submission(assignment, student)
             except Exception:
                 pass
+    import threading
+    workers, local = [], threading.local()     # warm worker processes, one per thread
+
+    def worker():
+        if getattr(local, "proc", None) is None or local.proc.poll() is not None:
+            env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parent.parent))
+            local.proc = subprocess.Popen(
+                [sys.executable, "-m", "tools.grade_worker", str(course), str(int(timeout)),
+                 str(int(notebook_timeout))], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                stderr=subprocess.DEVNULL, text=True, env=env)
+            workers.append(local.proc)
+        return local
+
     def autograde(job):
         student, assignment = job
         begin = time.monotonic()
+        local = worker()
+        proc = local.proc
+        failed = ""
         try:
-            run = nbgrader(course, "autograde", assignment, f"--student={student}", "--force",
-                           f"--SandboxExecute.timeout={int(timeout)}",
-                           f"--SandboxExecute.notebook_timeout={int(notebook_timeout)}",
-                           "--log-level=ERROR",
-                           timeout=notebook_timeout, check=False)
-            failed = f"autograde failed: {_tail(run)}" if run.returncode != 0 else ""
-        except Exception as err:        # subprocess.TimeoutExpired, above all
-            failed = f"grading stopped after {notebook_timeout} s ({type(err).__name__})"
+            proc.stdin.write(f"{student}\t{assignment}\n")
+            proc.stdin.flush()
+            ready = select.select([proc.stdout], [], [], notebook_timeout + 120)[0]
+            line = proc.stdout.readline() if ready else ""
+            reply = json.loads(line) if line else {"ok": False, "why": f"grading stopped after "
+                                                               f"{notebook_timeout} s"}
+        except (OSError, ValueError) as err:
+            reply = {"ok": False, "why": f"the grading worker stopped ({type(err).__name__})"}
+        if not reply.get("ok"):
+            failed = f"autograde failed: {reply.get('why', '')}"
+            if "stopped" in reply.get("why", ""):
+                proc.kill()
+                local.proc = None
         log(f"autograde {student}/{assignment}: {'FAILED, ' + failed if failed else 'done'} "
             f"({time.monotonic() - begin:.0f} s)")
         return failed
 
-    # Each student and assignment in its own nbgrader process, JOBS at a time; one that
+    # Each student and assignment graded on its own, by JOBS warm workers; one that
     # fails beside others (the SQLite gradebook can be busy) is tried once more alone.
     failed_jobs = {}
-    with ThreadPoolExecutor(max_workers=max(1, jobs_at_once)) as pool:
-        for job, failed in zip(jobs, pool.map(autograde, jobs)):
-            if failed:
-                failed_jobs[job] = failed
-    if jobs_at_once > 1:
-        failed_jobs = {job: why for job in list(failed_jobs) if (why := autograde(job))}
+    try:
+        with ThreadPoolExecutor(max_workers=max(1, jobs_at_once)) as pool:
+            for job, failed in zip(jobs, pool.map(autograde, jobs)):
+                if failed:
+                    failed_jobs[job] = failed
+        if jobs_at_once > 1:
+            failed_jobs = {job: why for job in list(failed_jobs) if (why := autograde(job))}
+    finally:
+        for proc in workers:
+            if proc.poll() is None:
+                proc.stdin.close()
+                try:
+                    proc.wait(timeout=30)
+                except subprocess.TimeoutExpired:
+                    proc.kill()
     for (student, assignment), failed in failed_jobs.items():
         problems[(student, assignment)] = "; ".join(filter(None, [problems.get((student, assignment)), failed]))
         with _gradebook(course) as gb:
@@ -271,7 +303,9 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
                 pass
     jobs = [job for job in jobs if job not in failed_jobs]
 
-    run = nbgrader(course, "generate_feedback", "*", "--force", "--log-level=ERROR", check=False) \
+    # feedback only for the submissions graded now (their old pages were removed above):
+    # without --force, nbgrader leaves every other page as it is
+    run = nbgrader(course, "generate_feedback", "*", "--log-level=ERROR", check=False) \
         if jobs else None
     if run is not None and run.returncode != 0:
         # one student's page must not cost the others theirs: again, one by one

@@ -182,6 +182,26 @@ def test_figures_carry_their_alt_text(pages, soups):
 PLACEHOLDERS = re.compile(r"OWNER/|example\.(edu|com|org)|executablebooks/jupyter-book|jupyterhub\.example")
 
 
+def test_landing_page_orients_and_each_chapter_begins_with_its_time_and_goals(pages, soups):
+    landing = soups["index.html"].select_one("article")
+    heads = [h.get_text(" ", strip=True).rstrip("#").strip() for h in landing.select("h2")]
+    for wanted in ("What you will learn", "What you need first", "The path", "Where to start"):
+        assert any(h.startswith(wanted) for h in heads), f"the landing page has no '{wanted}'"
+    path_table = landing.select_one("table")
+    rows = path_table.select("tbody tr")
+    assert len(rows) == len(course_notebooks())
+    for row in rows:
+        assert re.search(r"\d+ (h|min)", row.get_text(" ")), f"no time in {row.get_text(' ', strip=True)}"
+    for nb_path in course_notebooks():
+        article = soups[f"{nb_path.stem}.html"].select_one("article")
+        blocks = article.select("h1, h2, h3, p")[:12]
+        text = " ".join(b.get_text(" ") for b in blocks)
+        assert re.search(r"Time: about \d+ (h|min)", text), f"{nb_path.name}: no time at the top"
+        source = "\n".join(c.source for c in read(nb_path).cells if c.cell_type == "markdown")
+        if "What you will learn" in source:
+            assert "What you will learn" in text, f"{nb_path.name}: goals not at the top"
+
+
 def test_without_a_repository_no_launch_or_repository_button(pages, soups):
     """The book in build/book is built without BOOK_REPOSITORY (as the tests run): no
     launch or repository button, no placeholder URL, and no promise of a rocket button."""
@@ -233,9 +253,7 @@ def test_download_menu_gives_a_notebook_that_runs_and_the_course_pdf(pages, soup
                 f"{download}: cell {cell.get('id')} should not be in the download"
         # every cell the learner works with is there, in the notebook's order
         source = read(nb_path)
-        wanted = [c.id for c in source.cells if not (
-            book.is_hidden_test(c) or book.is_solution(c) or book.is_verification(c)
-            or book.is_speaker_note(c))]
+        wanted = [c.id for c in source.cells if not (book.is_left_out(c) or book.is_solution(c))]
         assert [c.id for c in given.cells[1:]] == wanted, f"{download} is not {nb_path.name}"
 
 
@@ -292,26 +310,57 @@ def test_every_link_in_the_book_resolves(pages, soups):
 # In Chromium, offline
 
 
-# Every code box and display formula that is wider than its visible box must scroll
-# (overflow-x auto or scroll on itself or a box around it); collapsed blocks are skipped.
+# What a reader would have to scroll sideways: a code or output block wider than its box
+# (they wrap: none may scroll), a display formula wider than its column (formulas are set
+# smaller until they fit, course.js), a table wider than the screen with no scroll of its
+# own, or the page itself wider than the screen. Collapsed blocks are skipped.
 CUT_OFF = """() => {
   const cut = [];
-  const sel = 'article pre, article mjx-container[display="true"], article div.math';
-  for (const el of document.querySelectorAll(sel)) {
-    if (el.closest('details:not([open])') || el.getClientRects().length === 0) continue;
-    let box = el, ok = false;
-    for (; box && box !== document.body; box = box.parentElement) {
-      const s = getComputedStyle(box);
-      if (box.scrollWidth <= box.clientWidth + 1) continue;
-      ok = ['auto', 'scroll'].includes(s.overflowX);
-      break;
-    }
+  const shown = el => !el.closest('details:not([open])') && el.getClientRects().length > 0;
+  const text = el => (el.textContent || '').trim().replace(/\\s+/g, ' ').slice(0, 60);
+  for (const el of document.querySelectorAll('article pre')) {
+    if (!shown(el)) continue;
     const r = el.getBoundingClientRect();
-    if (!ok && (el.scrollWidth > el.clientWidth + 1 || r.right > innerWidth + 1))
-      cut.push(el.tagName.toLowerCase() + ': ' + (el.textContent || '').trim().slice(0, 60));
+    if (el.scrollWidth > el.clientWidth + 1 || r.right > innerWidth + 1)
+      cut.push('code or output scrolls sideways: ' + text(el));
   }
+  for (const el of document.querySelectorAll('article mjx-container[display="true"]')) {
+    if (!shown(el)) continue;
+    const avail = el.parentElement.clientWidth;
+    if (Math.max(el.scrollWidth, el.offsetWidth) > avail + 1)
+      cut.push('formula wider than its column: ' + text(el));
+  }
+  for (const t of document.querySelectorAll('article table')) {
+    if (!shown(t)) continue;
+    let box = t.parentElement, scrolls = false;
+    for (; box && box !== document.body; box = box.parentElement)
+      if (['auto', 'scroll'].includes(getComputedStyle(box).overflowX) && box.clientWidth <= innerWidth) {
+        scrolls = true; break;
+      }
+    if (t.getBoundingClientRect().width > innerWidth + 1 && !scrolls)
+      cut.push('table wider than the screen: ' + text(t));
+  }
+  if (document.documentElement.scrollWidth > innerWidth + 1) cut.push('the page scrolls sideways');
   return cut;
 }"""
+
+# On a phone, each 3-D figure: a swipe over it scrolls the page (the shield, course.js), its
+# title lies inside it, and no toolbar or "Back to top" button sits on it.
+PHONE_FIGURES = """() => [...document.querySelectorAll('.plotly-graph-div')].map(fig => {
+  const r = fig.getBoundingClientRect();
+  const cover = fig.parentElement.querySelector(':scope > .course-figure-shield');
+  const turn = cover && cover.querySelector('button');
+  const title = fig.querySelector('.gtitle');
+  const t = title ? title.getBoundingClientRect() : null;
+  const bar = fig.querySelector('.modebar-container');
+  const top = document.querySelector('#pst-back-to-top');
+  return {id: fig.id,
+          shield: !!cover && !cover.hidden && cover.getBoundingClientRect().height > r.height / 2,
+          turn: !!turn && turn.textContent.includes('Turn'),
+          titleInside: !t || (t.left >= r.left - 1 && t.right <= r.right + 1),
+          toolbar: !!bar && getComputedStyle(bar).display !== 'none',
+          backToTop: !!top && getComputedStyle(top).display !== 'none'};
+})"""
 
 # At a phone width, the first thing on the screen is the page's text, not the contents.
 TEXT_FIRST = """() => {
@@ -320,6 +369,19 @@ TEXT_FIRST = """() => {
   const navShown = nav && nav.getBoundingClientRect().width > 0
                    && nav.getBoundingClientRect().left >= 0 && getComputedStyle(nav).visibility !== 'hidden';
   return {headingTop: h ? h.getBoundingClientRect().top : null, navShown};
+}"""
+
+
+# On a laptop, half way down a chapter, its contents ("Contents" beside the text) are in view.
+TOC_IN_VIEW = """() => {
+  window.scrollTo(0, document.documentElement.scrollHeight / 2);
+  const toc = document.querySelector('.bd-sidebar-secondary');
+  const r = toc ? toc.getBoundingClientRect() : null;
+  const links = toc ? toc.querySelectorAll('a').length : 0;
+  const shown = !!r && r.width > 100 && r.top < innerHeight / 2 && r.bottom > innerHeight / 2
+                && getComputedStyle(toc).visibility !== 'hidden';
+  window.scrollTo(0, 0);
+  return {shown, links};
 }"""
 
 
@@ -350,6 +412,7 @@ def _open(page, path):
     page.goto(path.as_uri())
     page.wait_for_function(MATHJAX_READY)
     page.evaluate("MathJax.startup.promise")
+    page.wait_for_function("document.documentElement.dataset.courseFitted === '1'")
 
 
 # the pages of notebooks 01 to 05 each have a figure the learner turns (so3lib.plot.show_3d)
@@ -395,6 +458,13 @@ def visits(browser, pages):
                     "layout": page.evaluate(TEXT_FIRST),
                     "axe": _axe(page, axe) if size_name == "laptop" else [],
                 }
+                if key == "laptop-light" and path != pages[0]:
+                    seen[key]["toc"] = page.evaluate(TOC_IN_VIEW)
+                if size_name == "phone":
+                    page.wait_for_function("""() => [...document.querySelectorAll('.plotly-graph-div')]
+                        .every(f => f._fullLayout)""")
+                    page.wait_for_timeout(300)  # the titles are refitted once drawn
+                    seen[key]["figures"] = page.evaluate(PHONE_FIGURES)
                 if path in (pages[0], pages[2]) and scheme == "light":
                     screenshot(page, f"book_{path.stem}_{size_name}")
                 if key == "laptop-light" and path.name in turnable:
@@ -415,10 +485,31 @@ def test_every_page_reads_offline_with_its_maths_typeset(visits, pages):
 
 
 @pytest.mark.browser
-def test_no_code_box_or_formula_is_cut_off(visits, pages):
+def test_nothing_needs_sideways_scrolling_on_a_laptop_or_a_phone(visits, pages):
     cut = [f"{path.name} at {key}: {c}" for path in pages
            for key, seen in visits[path.name].items() for c in seen["cut"]]
     assert not cut, "\n".join(cut)
+
+
+@pytest.mark.browser
+def test_on_a_phone_3d_figures_let_the_page_scroll_and_show_their_title(visits, pages):
+    problems = []
+    for path in pages:
+        for fig in visits[path.name]["phone-light"].get("figures", []):
+            if not (fig["shield"] and fig["turn"]):
+                problems.append(f"{path.name} #{fig['id']}: a swipe over it does not scroll the page")
+            if not fig["titleInside"]:
+                problems.append(f"{path.name} #{fig['id']}: its title is cut off")
+            if fig["toolbar"] or fig["backToTop"]:
+                problems.append(f"{path.name} #{fig['id']}: a toolbar or 'Back to top' covers it")
+    assert not problems, "\n".join(problems)
+
+
+@pytest.mark.browser
+def test_on_a_laptop_a_chapter_keeps_its_contents_in_view(visits, pages):
+    for path in pages[1:]:
+        toc = visits[path.name]["laptop-light"]["toc"]
+        assert toc["shown"] and toc["links"] >= 3, f"{path.name}: no contents in view half way down"
 
 
 @pytest.mark.browser
@@ -450,18 +541,44 @@ def test_figures_turn_with_the_mouse(visits, path):
     assert not any(visits["_problems"]), "\n".join(visits["_problems"])
 
 
+SEARCH_RESULTS = """() => [...document.querySelectorAll('#search-results ul.search li')].map(li => {
+  const a = li.querySelector('a');
+  return {href: a ? a.getAttribute('href') : '', title: a ? a.textContent : '', excerpt: (li.querySelector('p.context') || {}).textContent || '',
+          marked: li.querySelectorAll('mark').length};
+})"""
+
+
 @pytest.mark.browser
-def test_search_finds_rodrigues_offline(browser, pages):
+def test_search_finds_sections_with_an_excerpt_offline(browser, pages, soups):
+    """Search lists sections, each with an excerpt that marks the word and a link to the
+    section; a page that does not contain the word is not listed."""
     offline = Offline(browser)
     page = offline.new_page()
     page.set_default_timeout(60_000)
-    page.goto((pages[0].parent / "search.html").as_uri() + "?q=Rodrigues")
-    page.wait_for_function("document.querySelectorAll('#search-results ul.search li').length > 0")
-    hits = page.locator("#search-results ul.search li").count()
-    screenshot(page, "book_search")
-    assert hits >= 3, f"only {hits} hits for Rodrigues"
-    assert not offline.problems(), offline.problems()
-    offline.close()
+    out = pages[0].parent
+    texts = {p.name: soups[p.name].select_one("article").get_text(" ").lower() for p in pages}
+    try:
+        for word in ("Rodrigues", "half-turn"):
+            page.goto((out / "search.html").as_uri() + "?q=" + word)
+            page.wait_for_function("document.querySelectorAll('#search-results ul.search li').length > 0")
+            hits = page.evaluate(SEARCH_RESULTS)
+            if word == "Rodrigues":
+                screenshot(page, "book_search")
+            assert len(hits) >= 3, f"only {len(hits)} hits for {word}"
+            for hit in hits:
+                name, _, anchor = hit["href"].partition("#")
+                assert anchor and anchor in {t["id"] for t in soups[name].select("[id]")}, \
+                    f"{word}: {hit['href']} is not a section"
+                assert hit["excerpt"].strip(), f"{word}: {hit['href']} has no excerpt"
+                assert (word.lower() in hit["excerpt"].lower() and hit["marked"]) or \
+                    word.lower() in hit["title"].lower(), \
+                    f"{word}: neither the excerpt nor the title of {hit['href']} shows the word"
+                assert word.lower() in texts[name], f"{word}: {name} is listed but never says it"
+            if word == "half-turn":
+                assert hits[0]["href"].startswith("04_"), f"half-turn: first hit {hits[0]['href']}"
+        assert not offline.problems(), offline.problems()
+    finally:
+        offline.close()
 
 
 @pytest.mark.browser
@@ -518,3 +635,22 @@ def test_the_pdf_holds_the_whole_course(pdf):
     assert "code cell source" not in text, "a figure's folded code printed as a stray line"
     assert "\\frac" not in text and "\\begin{" not in text, "maths printed as TeX source"
     assert text.count("\f") > 50, "fewer pages than the course has"
+
+
+@pytest.mark.browser
+def test_the_pdf_is_made_for_paper(pdf):
+    """No instruction for a screen, no figure controls, no "Next:" links; the solutions are
+    gathered at the end of each chapter, each exercise pointing to its page."""
+    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    flat = re.sub(r"\s+", " ", text)
+    for word in ("button", "Drag", "drag to", "slider", "Next:", "Show solution", "▶ play", "pause"):
+        found = [m.start() for m in re.finditer(re.escape(word), flat)]
+        assert not found, f"the PDF says {word!r}: ...{flat[max(0, found[0] - 80):found[0] + 80]}..."
+    refs = re.findall(r"Solution: in “Solutions” at the end of this chapter, page (\d+)", flat)
+    assert refs, "no exercise points to its solution"
+    assert len(refs) == flat.count("Solution: in “Solutions”"), "an exercise's solution has no page"
+    pages = text.split("\f")
+    for n in refs:
+        assert "Solution to" in pages[int(n) - 1], f"page {n} holds no solution"
+    assert "Solutions:" in flat

@@ -90,6 +90,18 @@ def is_solution(cell):
     return "solution" in _tags(cell)
 
 
+def is_left_out(cell):
+    """A cell that the book leaves out: speaker notes, grading asserts, `verify` checks, and
+    any other role that tools/roles.py leaves out of the book (the lecture's own cells)."""
+    if is_speaker_note(cell) or is_hidden_test(cell) or is_verification(cell):
+        return True
+    try:
+        from tools import roles
+    except ImportError:
+        return False
+    return roles.left_out(cell, roles.BOOK)
+
+
 def _marker(text):
     from nbformat.v4 import new_markdown_cell
     cell = new_markdown_cell(text)
@@ -148,7 +160,7 @@ def learner_copy(nb, anchors=(), slugs=None):
     import nbformat
     cells, in_solution = [], False
     for cell in nb.cells:
-        if is_speaker_note(cell) or is_hidden_test(cell) or is_verification(cell):
+        if is_left_out(cell):
             continue
         if is_solution(cell) != in_solution:
             cells.append(_marker(SOLUTION_END if in_solution else SOLUTION_BEGIN))
@@ -173,7 +185,7 @@ def download_copy(nb, name, repository_url=REPOSITORY_URL):
     import nbformat
     from nbformat.v4 import new_markdown_cell
     keep = [copy.deepcopy(c) for c in nb.cells
-            if not (is_speaker_note(c) or is_hidden_test(c) or is_verification(c) or is_solution(c))]
+            if not (is_left_out(c) or is_solution(c))]
     repository_url = (repository_url or "").strip().rstrip("/")
     where = "the course folder"
     binder = ""
@@ -303,8 +315,7 @@ def chapter_front(nb):
         _GOALS.match(c.source) or _NEEDS.search(c.source))]
     rest = [c for c in cells[1:] if not any(c is f for f in front)]
     note = " (estimated from its length)" if how == "estimated" else ""
-    card = new_markdown_cell(f"**Time:** about {format_time(minutes)}{note}."
-                             + (" **Goals** and what you need first:" if front else ""))
+    card = new_markdown_cell(f"**Time:** about {format_time(minutes)}{note}.")
     card.metadata["tags"] = ["course-chapter-time"]
     card.id = "course-chapter-time"
     nb = copy.copy(nb)
@@ -393,8 +404,8 @@ Take the chapters in order: each builds on the ones before it. In all, about
 """ + (f"""- **You teach from the sources** and want their mistakes:
   [{label(nbs[paths.index(errata)], errata)}]({errata.name}).
 """ if errata else "") + rf"""
-Each chapter begins with its time, its goals and what it needs first. Worked solutions sit
-folded under each exercise (*Show solution*): try the exercise first.
+Each chapter begins with its time, its goals and what it needs first.
+<span class="course-web-only">Worked solutions sit folded under each exercise (*Show solution*): try the exercise first.</span><span class="course-print-only">Worked solutions are printed at the end of each chapter, with the page given under each exercise: try the exercise first.</span>
 
 ## How to run the notebooks
 
@@ -402,9 +413,9 @@ folded under each exercise (*Show solution*): try the exercise first.
   `make lab`. The first time it installs the pinned packages into `.venv`; then JupyterLab
   opens `notebooks/00_start_here.ipynb`. Run each notebook top to bottom, then change the
   numbers and run it again.
-- **A single notebook**: the download menu at the top of its page gives the `.ipynb`; its
+- <span class="course-web-only">**A single notebook**: the download menu at the top of its page gives the `.ipynb`; its
   first cell says how to run it (it needs the course's library, `so3lib`). The same menu
-  gives the whole course as one PDF for paper, <a href="course.pdf">course.pdf</a>.
+  gives the whole course as one PDF for paper, <a href="course.pdf">course.pdf</a>.</span><span class="course-print-only">**The notebooks themselves** are in the course folder's `notebooks/`; the web edition of this book (`make book`) reads offline, with figures that turn.</span>
 - **Exercises** check themselves: write your answer in the empty cell, run the checker
   below it, and read what it says.
 """
@@ -661,6 +672,112 @@ _SPLIT_TAG = re.compile(r"\\begin\{split\}((?:(?!\\end\{split\}).)*?)\s*\\tag\{(
                         r"((?:(?!\\end\{split\}).)*?)\\end\{split\}", re.S)
 
 
+_TOKEN = re.compile(r"(<[^>]+>)|([^<]+)")
+
+
+def line_spans(html):
+    """The inner HTML of a <pre> with each line in its own <span class="cl" style="--i:N">
+    (N: its leading spaces), so that a long line wraps with a hanging indent (course.css).
+    Pygments' spans that run over a line end are closed and opened again around it."""
+    out, stack, line = [], [], []
+
+    def end_line(newline):
+        text = "".join(line)
+        plain = re.sub(r"<[^>]+>", "", text)
+        indent = len(plain) - len(plain.lstrip(" "))
+        out.append(f'<span class="cl" style="--i:{indent}">{text}{"".join("</span>" for _ in stack)}'
+                   f'{newline}</span>')
+        line.clear()
+        line.extend(stack)
+
+    for m in _TOKEN.finditer(html):
+        tag, text = m.group(1), m.group(2)
+        if tag:
+            line.append(tag)
+            if tag.startswith("</"):
+                if stack:
+                    stack.pop()
+            elif not tag.endswith("/>"):
+                stack.append(tag)
+            continue
+        parts = text.split("\n")
+        for i, part in enumerate(parts):
+            line.append(part)
+            if i < len(parts) - 1:
+                end_line("\n")
+    if re.sub(r"<[^>]+>", "", "".join(line)):
+        end_line("")
+    return "".join(out)
+
+
+def wrap_code_lines(soup):
+    """Every code and output block of the article gets line_spans (once)."""
+    changed = False
+    for pre in soup.select("article pre"):
+        if pre.select_one("span.cl") or pre.find_parent(class_="math"):
+            continue
+        spans = line_spans(pre.decode_contents())
+        pre.clear()
+        pre.append(BeautifulSoup(spans, "html.parser"))
+        pre["class"] = list(pre.get("class", [])) + ["course-lines"]
+        changed = True
+    return changed
+
+
+def section_index(out, pages):
+    """Every section of every page, with its own text (not its subsections'), for the
+    course's search (course.js): [{p: page, i: anchor, c: chapter, t: title, x: text}]."""
+    entries = []
+    for page in pages:
+        soup = BeautifulSoup(page.read_text(encoding="utf-8"), "html.parser")
+        article = soup.select_one("article")
+        if article is None:
+            continue
+        for bad in article.select(".math, script, style, .headerlink, .copybtn, "
+                                  ".course-figure-shield, .plotly-graph-div"):
+            bad.decompose()
+        h1 = article.select_one("h1")
+        chapter = h1.get_text(" ", strip=True) if h1 else page.stem
+        for section in article.select("section[id]"):
+            heading = section.find(re.compile(r"^h[1-6]$"))
+            title = heading.get_text(" ", strip=True) if heading else chapter
+            own = BeautifulSoup(str(section), "html.parser").section
+            for sub in own.find_all("section", recursive=False):
+                sub.decompose()
+            for pre in own.select("pre"):  # code reads as written, not token by token
+                pre.replace_with(" " + pre.get_text("") + " ")
+            if own.find(re.compile(r"^h[1-6]$")):
+                own.find(re.compile(r"^h[1-6]$")).decompose()
+            text = re.sub(r"\s+", " ", own.get_text(" ")).strip()
+            entries.append({"p": page.name, "i": section["id"], "c": chapter, "t": title, "x": text})
+    return entries
+
+
+def write_search(out):
+    """The course's search (course.js) on search.html: an index of sections in
+    _static/course-search.js, in place of Sphinx's page-level search, which lists titles
+    only (its excerpts fetch each page, which a file:// page may not) and ranks pages by
+    stems of words they need not contain."""
+    import json
+    out = Path(out)
+    search = out / "search.html"
+    pages = [out / "index.html"] + sorted(p for p in out.glob("*.html")
+                                          if p.name not in {"index.html", "search.html", "genindex.html"})
+    data = "window.COURSE_SEARCH = " + json.dumps(section_index(out, pages), ensure_ascii=False) + ";\n"
+    _write_if_changed(out / "_static" / "course-search.js", data)
+    if not search.exists():
+        return
+    soup = BeautifulSoup(search.read_text(encoding="utf-8"), "html.parser")
+    if soup.select_one("script[data-course-search]"):
+        return
+    for tag in soup.select("script[src]"):
+        if any(k in tag["src"] for k in ("searchtools.js", "searchindex.js", "language_data.js")):
+            tag.decompose()
+    soup.head.append(soup.new_tag("script", attrs={"src": "_static/course-search.js",
+                                                   "data-course-search": ""}))
+    write_atomic(search, str(soup))
+
+
 def postprocess(out, repository_url=REPOSITORY_URL):
     """The HTML pass: solution blocks; the download button gives the notebook (download_copy)
     and the course's PDF. A
@@ -686,6 +803,7 @@ def postprocess(out, repository_url=REPOSITORY_URL):
         fixed = _SPLIT_TAG.sub(r"\\begin{split}\1\3\\end{split}\\tag{\2}", text)
         soup = BeautifulSoup(fixed, "html.parser")
         changed = wrap_solutions(soup) or fixed != text
+        changed = wrap_code_lines(soup) or changed
         # The search button's visible text ("Search Ctrl+K") is its accessible name; the
         # theme's aria-label "Search" would contradict it (axe: label-content-name-mismatch).
         for button in soup.select("button.search-button__button[aria-label]"):
@@ -724,6 +842,15 @@ def postprocess(out, repository_url=REPOSITORY_URL):
                 text.string = "course.pdf"
             button.replace_with(link)
             changed = True
+        # A table's cells carry their column's heading, which a phone shows above each cell
+        # when it stacks the rows (course.css).
+        for table in soup.select("article table"):
+            heads = [th.get_text(" ", strip=True) for th in table.select("thead th")]
+            for tr in table.select("tbody tr"):
+                for head, td in zip(heads, tr.find_all("td", recursive=False)):
+                    if td.get("data-label") != head:
+                        td["data-label"] = head
+                        changed = True
         # myst-nb's collapsed input: its summary's text ("Show code cell source") is its name.
         for summary in soup.select("summary[aria-label]"):
             del summary["aria-label"]
@@ -737,6 +864,7 @@ def postprocess(out, repository_url=REPOSITORY_URL):
             write_atomic(page, str(soup))
         done[page.name] = [page.stat().st_size, page.stat().st_mtime_ns]
     write_atomic(record, json.dumps(done, indent=1, sort_keys=True))
+    write_search(out)
     import nbformat
     sources = out / "_sources"
     for p in course_notebooks():
@@ -774,20 +902,130 @@ def publish_pdf(out=OUT, pdf=PDF):
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-background-networking", "--disable-component-update",
                  "--disable-sync", "--disable-quic", "--no-first-run", "--disable-dev-shm-usage"]
 
-# Runs in the one-page book before printing: each notebook starts a new page, solutions
-# are open, and a contents list of every notebook and section (with page numbers once known).
-PRINT_PREPARE = r"""(pages) => {
-  document.querySelectorAll('details.course-solution').forEach(d => { d.open = true; });
-  let nav = document.getElementById('course-print-toc');
-  if (!nav) {
+# Runs in the one-page book before printing (twice: the second time with the page numbers
+# the first print found). Paper is not a screen: each notebook starts a new page; the web's
+# instructions ("Drag to turn", "move the slider", "the rocket button") give way to what the
+# paper shows, and the "Previous / Next" links go; each chapter's worked solutions move to
+# "Solutions" at its end, with a line under each exercise that gives the page; a contents
+# list of every notebook and section leads (with page numbers once known).
+PRINT_PREPARE = r"""(numbers) => {
+  const toc = (numbers && numbers.toc) || [], sols = (numbers && numbers.sols) || [];
+  const article = document.querySelector('.bd-article') || document.body;
+  if (!document.body.dataset.coursePaper) {
+    document.body.dataset.coursePaper = '1';
     const starts = [...document.querySelectorAll('span[id^="document-"]')]
       .filter(s => s.nextElementSibling && s.nextElementSibling.tagName === 'SECTION');
     starts.forEach(s => s.nextElementSibling.classList.add('course-chapter'));
-    nav = document.createElement('nav');
+    const nav = document.createElement('nav');
     nav.id = 'course-print-toc';
     nav.setAttribute('aria-label', 'Contents');
     const first = starts.length ? starts[0] : document.querySelector('.bd-article section');
     first.parentNode.insertBefore(nav, first);
+    // the web's navigation lines
+    for (const p of article.querySelectorAll('p')) {
+      const t = p.textContent.trim();
+      if (/^(Previous|Next):/.test(t)) p.remove();
+      else if (/^Notebook \w+ of the course\. (Previous|Next):/.test(t)) {
+        const b = p.querySelector('strong');
+        p.textContent = '';
+        if (b) p.append(b, ' of the course.');
+      }
+    }
+    // the web's instructions: a sentence that starts with one of these goes, with what
+    // the paper shows in its place (the sentence may run over formulas and links)
+    // phrases first, where the rest of the sentence still says something on paper
+    const PHRASES = [
+      [/Drag to turn the view; the slider runs /, 'On the screen a control runs '],
+      [/Drag the slider: at /, 'At '],
+      [/worked solutions behind\s*$/, 'worked solutions '],
+      [/^Show solution$/, 'at the end of each chapter in print'],
+      [/Drag to turn the ball; move the slider to walk the path\./,
+       'The picture shows the path from one side (in the web book the ball turns, and a slider walks the path).'],
+      [/Drag to look along the axis /, 'Seen along the axis '],
+      [/Move the slider: the /, 'The '],
+      [/the rocket button at the top of a\s+page of the book opens that notebook there/,
+       "a Binder or JupyterHub link to the course's repository opens a notebook there"],
+      [/stays folded until you click/, 'is printed at the end of its chapter'],
+    ];
+    // then any sentence that is still an instruction for the screen
+    const SENTENCES = [
+      [/Drag to [^.]*/, 'The picture shows the figure from one side (in the web book it turns).'],
+      [/Drag the figure[^.]*/, ''],
+      [/[Mm]ove the slider[^.]*/, ''],
+      [/[Cc]lick the [^.]*button[^.]*/, ''],
+    ];
+    const walker = document.createTreeWalker(article, NodeFilter.SHOW_TEXT);
+    const texts = [];
+    while (walker.nextNode()) texts.push(walker.currentNode);
+    const dropSentence = (node, at, replacement) => {
+      // cut from AT in NODE to the end of the sentence, over formulas and links after it
+      const text = node.nodeValue, head = text.slice(0, at), rest = text.slice(at);
+      const end = rest.search(/[.](\s|$)/);
+      const put = replacement ? replacement + ' ' : '';
+      if (end >= 0) { node.nodeValue = head + put + rest.slice(end + 1).trimStart(); return; }
+      node.nodeValue = head + put;
+      let next = node.nextSibling;
+      while (next) {
+        const after = next.nextSibling;
+        if (next.nodeType === 3) {
+          const e = next.nodeValue.search(/[.](\s|$)/);
+          if (e >= 0) { next.nodeValue = next.nodeValue.slice(e + 1).trimStart(); return; }
+        }
+        next.remove();
+        next = after;
+      }
+    };
+    for (const node of texts) {
+      if (!node.parentNode || node.parentElement.closest('pre, code, mjx-container, .plotly-graph-div, script, style')) continue;
+      for (const [re, put] of PHRASES) node.nodeValue = node.nodeValue.replace(re, put);
+      for (const [re, put] of SENTENCES) {
+        const m = node.parentNode ? node.nodeValue.match(re) : null;
+        if (m) dropSentence(node, m.index, put);
+      }
+    }
+    // each chapter's solutions, at its end
+    let n = 0;
+    for (const chapter of document.querySelectorAll('section.course-chapter')) {
+      const found = [...chapter.querySelectorAll('details.course-solution')];
+      if (!found.length) continue;
+      const title = chapter.querySelector(':scope > h1, :scope > h2');
+      const name = title ? title.textContent.replace('#', '').trim() : '';
+      const end = document.createElement('section');
+      end.className = 'course-solutions';
+      const h = document.createElement('h2');
+      h.textContent = 'Solutions: ' + name;
+      end.appendChild(h);
+      for (const d of found) {
+        n += 1;
+        let heading = null, el = d;
+        while (el && !heading) {
+          let prev = el.previousElementSibling;
+          while (prev && !heading) {
+            heading = prev.matches('h1, h2, h3, h4') ? prev : prev.querySelector('h2, h3, h4');
+            prev = prev.previousElementSibling;
+          }
+          el = el.parentElement;
+          if (el && el.matches('section') && !heading) heading = el.querySelector(':scope > h2, :scope > h3, :scope > h4');
+        }
+        const what = heading ? heading.textContent.replace('#', '').trim() : 'the exercise above';
+        const item = document.createElement('div');
+        item.className = 'course-solution-printed';
+        const h3 = document.createElement('h3');
+        h3.id = 'course-solution-' + n;
+        h3.textContent = 'Solution to ' + what;
+        item.appendChild(h3);
+        for (const child of [...d.childNodes]) if (child.nodeName !== 'SUMMARY') item.appendChild(child);
+        end.appendChild(item);
+        const ref = document.createElement('p');
+        ref.className = 'course-solution-ref';
+        ref.dataset.n = String(n);
+        ref.innerHTML = '<em>Solution:</em> in “Solutions” at the end of this chapter' +
+                        '<span class="course-solution-page"></span>.';
+        d.replaceWith(ref);
+      }
+      chapter.appendChild(end);
+    }
+    document.body.dataset.courseSolutions = String(n);
   }
   const chapters = [...document.querySelectorAll('section.course-chapter')];
   const entries = [];
@@ -797,18 +1035,23 @@ PRINT_PREPARE = r"""(pages) => {
     entries.push({level: 1, id: c.id, text: title.textContent.replace('#', '').trim()});
     for (const s of c.querySelectorAll(':scope > section')) {
       const h = s.querySelector(':scope > h2, :scope > h3');
-      if (h) entries.push({level: 2, id: s.id, text: h.textContent.replace('#', '').trim()});
+      if (h && s.id) entries.push({level: 2, id: s.id, text: h.textContent.replace('#', '').trim()});
     }
   }
+  const nav = document.getElementById('course-print-toc');
   let html = '<h2>Contents</h2><ol class="course-print-toc">';
   entries.forEach((e, i) => {
-    const page = pages && pages[i] ? pages[i] : '';
     html += `<li class="toc-l${e.level}"><a href="#${e.id}"><span class="t"></span></a>` +
-            `<span class="p">${page}</span></li>`;
+            `<span class="p">${toc[i] || ''}</span></li>`;
   });
   nav.innerHTML = html + '</ol>';
   nav.querySelectorAll('span.t').forEach((t, i) => { t.textContent = entries[i].text; });
-  return entries.map(e => e.text);
+  const solutionTitles = [...document.querySelectorAll('.course-solution-printed > h3')].map(h => h.textContent);
+  document.querySelectorAll('p.course-solution-ref').forEach(p => {
+    const i = Number(p.dataset.n) - 1;
+    p.querySelector('.course-solution-page').textContent = sols[i] ? ', page ' + sols[i] : '';
+  });
+  return {toc: entries.map(e => e.text), sols: solutionTitles};
 }"""
 
 PRINT_CSS = """
@@ -828,6 +1071,18 @@ PRINT_CSS = """
 .bd-article table { break-inside: avoid; }
 .bd-article h1, .bd-article h2, .bd-article h3, .bd-article h4 { break-after: avoid; }
 #jb-print-docs-body #print-main-content { display: none !important; }  /* ours is below */
+/* the figures' play buttons, slider and toolbar do nothing on paper */
+.js-plotly-plot .updatemenu-container, .js-plotly-plot .slider-container,
+.js-plotly-plot .modebar-container { display: none !important; }
+/* a cell's box (code, then its output) is not split when it fits on a page; a heading is
+   never the last line of a page */
+.bd-article div.cell, .bd-article div.cell_input { break-inside: avoid; }
+.bd-article h2 + *, .bd-article h3 + *, .bd-article h4 + * { break-before: avoid; }
+section.course-solutions { break-before: page; }
+.course-solution-printed { margin-bottom: 1.2em; }
+p.course-solution-ref { font-size: 0.92em; border-left: 3px solid #999; padding-left: 0.5em; }
+.course-web-only { display: none !important; }
+.course-print-only { display: inline !important; }
 /* a figure's code that is not the point stays out of print, as it stays folded on screen */
 details.hide.above-input { display: none !important; }
 """
@@ -842,20 +1097,24 @@ def chromium_executable():
                      "CHROMIUM=/path/to/chrome")
 
 
-def _heading_pages(pdf, titles):
-    """Page (1-based) on which each title first appears after the contents list, in order,
-    from pdftotext's text. The list ends on the first page that shows the last title."""
+def _pdf_pages(pdf):
+    """The text of each page of PDF, letters and digits only (pdftotext; line breaks fall
+    anywhere and maths comes out scrambled)."""
     import subprocess
     text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
                           text=True, check=True).stdout
-    # letters and digits only: line breaks fall anywhere and maths comes out scrambled
-    squash = lambda t: re.sub(r"[^A-Za-z0-9]+", "", t)  # noqa: E731
-    pages = [squash(p) for p in text.split("\f")]
-    last = squash(titles[-1])[:30] if titles else ""
-    at = next((n + 1 for n, p in enumerate(pages) if last and last in p), 0)
+    return [_squash(p) for p in text.split("\f")]
+
+
+def _squash(t):
+    return re.sub(r"[^A-Za-z0-9]+", "", t)
+
+
+def _heading_pages(pages, titles, at=0):
+    """Page (1-based) on which each title first appears from page AT on, in order."""
     found = []
     for title in titles:
-        for key in (squash(title)[:30], squash(title)[:12]):
+        for key in (_squash(title)[:30], _squash(title)[:12]):
             n = next((n for n in range(at, len(pages)) if len(key) > 3 and key in pages[n]), None)
             if n is not None:
                 found.append(str(n + 1))
@@ -864,6 +1123,12 @@ def _heading_pages(pdf, titles):
         else:
             found.append("")
     return found
+
+
+def _contents_end(pages, titles):
+    """The page after the contents list: the first that shows its last title."""
+    last = _squash(titles[-1])[:30] if titles else ""
+    return next((n + 1 for n, p in enumerate(pages) if last and last in p), 0)
 
 
 def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
@@ -895,8 +1160,8 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
         context.route("**/*", lambda r: r.continue_() if r.request.url.startswith(
             ("file:", "data:", "about:", "blob:")) else r.abort())
         page = context.new_page()
-        page.set_default_timeout(120_000)
-        page.goto((Path(site) / "index.html").as_uri())
+        page.set_default_timeout(600_000)  # one page of the whole course: slow on a busy machine
+        page.goto((Path(site) / "index.html").as_uri(), wait_until="domcontentloaded")
         page.wait_for_function("window.MathJax && MathJax.startup && MathJax.startup.promise")
         page.evaluate("MathJax.startup.promise")
         page.add_style_tag(content=PRINT_CSS)
@@ -904,6 +1169,10 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
         # the 3-D figures take the printed column's width (plotly lays them out on load)
         page.evaluate("""() => Promise.all([...document.querySelectorAll('.plotly-graph-div')]
                          .map(d => window.Plotly ? Plotly.Plots.resize(d) : null))""")
+        page.evaluate("""() => Promise.all([...document.querySelectorAll('.plotly-graph-div')]
+                         .map(d => window.Plotly ? Plotly.relayout(d, {sliders: [], updatemenus: [],
+                           'title.text': String((d.layout.title && d.layout.title.text) || d.layout.title || '')
+                             .replace(/^Turn it:\\s*/, '')}) : null))""")
         titles = page.evaluate(PRINT_PREPARE, None)
         options = dict(format="A4", print_background=True, outline=True, tagged=True,
                        display_header_footer=True, header_template=header,
@@ -912,7 +1181,10 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
         tmp = Path(pdf).with_suffix(".tmp.pdf")
         page.pdf(path=str(tmp), **options)
         # second pass: the contents list gets the page numbers the first pass found
-        numbers = _heading_pages(tmp, titles)
+        pages = _pdf_pages(tmp)
+        at = _contents_end(pages, titles["toc"])
+        numbers = {"toc": _heading_pages(pages, titles["toc"], at),
+                   "sols": _heading_pages(pages, titles["sols"], at)}
         page.evaluate(PRINT_PREPARE, numbers)
         page.pdf(path=str(tmp), **options)
         os.replace(tmp, pdf)
@@ -932,6 +1204,9 @@ def build_pdf(pdf=PDF, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_
         sphinx(SOURCE, PRINT_OUT, "singlehtml")
         postprocess(PRINT_OUT, repository_url)
         _record_built(PRINT_OUT, "singlehtml", key)
+    from tools import check_system
+    # the contents list's page numbers and the solutions' page references come from pdftotext
+    check_system.require(["pdftotext"] + ([] if browser else ["chromium"]), "the course's PDF")
     printed = print_pdf(PRINT_OUT, pdf, browser)
     publish_pdf(OUT, printed)
     return printed

@@ -91,6 +91,17 @@ def missing(names):
     return [name for name in names if not WHAT[name][1]()]
 
 
+def require(names, purpose):
+    """Stop (SystemExit) naming each of NAMES that is missing, with its Debian package, as
+    `make pdf` does; tools/book.py calls it before printing the PDF."""
+    gone = missing(names)
+    if gone:
+        lines = [f"missing: {n} (Debian package {WHAT[n][0]}): apt-get install {WHAT[n][0]}  [{WHAT[n][2]}]"
+                 for n in gone]
+        raise SystemExit("\n".join(lines) + f"\n{purpose} needs them: apt-get install "
+                         + " ".join(sorted({WHAT[n][0] for n in gone})))
+
+
 def main(argv=None):
     args = sys.argv[1:] if argv is None else argv
     if args == ["--debian-packages"]:

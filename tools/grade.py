@@ -368,6 +368,10 @@ def _add_problems(path, problems):
     rows = _read_csv(path)
     fields = list(rows[0].keys()) if rows else ["assignment", "student_id", "score", "max_score"]
     fields.append("problem")
+    # only the assignments that were set: those someone handed in (or tried to)
+    handed_in = {row["assignment"] for row in rows if problems.get((row["student_id"], row["assignment"]))
+                 != "no submission"} | {a for (_, a), why in problems.items() if why != "no submission"}
+    rows = [row for row in rows if row["assignment"] in handed_in]
     for row in rows:
         row["problem"] = problems.get((row["student_id"], row["assignment"]), "")
     with open(path, "w", newline="", encoding="utf-8") as fh:

@@ -252,3 +252,11 @@ def test_figures_are_drawn_at_the_course_size(nb):
             if png and _png_width(png) < FIGURE_PX_MIN:
                 small.append(f"cell {i}: {_png_width(png)} px")
     assert not small, f"figures under {FIGURE_PX_MIN} px wide: {', '.join(small)}"
+
+
+def test_figure_code_starts_collapsed(nb):
+    """A `hide-input` cell's code is not the point: JupyterLab shows it folded, as the book
+    does, so that a learner reads the figure, not 10 to 40 lines of plotting."""
+    open_cells = [i for i, c in enumerate(nb.cells) if "hide-input" in _tags(c)
+                  and not c.metadata.get("jupyter", {}).get("source_hidden")]
+    assert not open_cells, f"hide-input cells {open_cells} should carry jupyter.source_hidden: true"

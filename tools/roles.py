@@ -85,8 +85,9 @@ ROLES = (
     _r("notebook-only", "for reading only: what the lecture says otherwise (an equation "
        "table, a summary of errata codes)", "tag `notebook-only`",
        _SHOWN, _SHOWN, _LEFT_OUT, _SHOWN, _SHOWN, tag="notebook-only"),
-    _r("hide-input", "figure whose code is not the point", "tag `hide-input`",
-       _SHOWN, (SHOW, "code collapsed"), (OUTPUT, "figure only"), _SHOWN, _SHOWN,
+    _r("hide-input", "figure whose code is not the point",
+       "tag `hide-input`, and `jupyter.source_hidden: true`",
+       (SHOW, "code collapsed"), (SHOW, "code collapsed"), (OUTPUT, "figure only"), _SHOWN, _SHOWN,
        tag="hide-input"),
     _r("alt", "figure's alt text", "`metadata.mystnb.image.alt` on the code cell",
        (SHOW, ""), (SHOW, "`alt`"), (SHOW, "`alt`"), (SHOW, ""), (SHOW, "")),

@@ -645,7 +645,7 @@ def test_the_pdf_is_made_for_paper(pdf):
                           text=True, check=True).stdout
     flat = re.sub(r"\s+", " ", text)
     for word in ("button", "Drag", "drag to", "slider", "Next:", "Show solution", "▶ play", "pause"):
-        found = [m.start() for m in re.finditer(re.escape(word), flat)]
+        found = [m.start() for m in re.finditer(r"\b" + re.escape(word), flat)]  # not time_slider
         assert not found, f"the PDF says {word!r}: ...{flat[max(0, found[0] - 80):found[0] + 80]}..."
     refs = re.findall(r"Solution: in “Solutions” at the end of this chapter, page (\d+)", flat)
     assert refs, "no exercise points to its solution"

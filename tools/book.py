@@ -1169,6 +1169,8 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
         # the 3-D figures take the printed column's width (plotly lays them out on load)
         page.evaluate("""() => Promise.all([...document.querySelectorAll('.plotly-graph-div')]
                          .map(d => window.Plotly ? Plotly.Plots.resize(d) : null))""")
+        page.wait_for_function("""() => [...document.querySelectorAll('.plotly-graph-div')]
+                               .every(d => d._fullLayout)""")  # drawn once the page has loaded
         page.evaluate("""() => Promise.all([...document.querySelectorAll('.plotly-graph-div')]
                          .map(d => window.Plotly ? Plotly.relayout(d, {sliders: [], updatemenus: [],
                            'title.text': String((d.layout.title && d.layout.title.text) || d.layout.title || '')

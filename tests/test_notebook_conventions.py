@@ -137,13 +137,20 @@ def _has_picture(cell):
 
 
 def test_a_picture_every_dozen_cells(nb):
-    """style.md: a learner meets a picture every few cells, never more than 12 without one."""
-    runs, start = [], 0
+    """style.md: a learner meets a picture every few cells, never more than 12 without one.
+    Speaker notes and cells for the lecture only (collapsed in JupyterLab, in no reading
+    edition) are not cells a learner reads, so they do not count."""
+    from tools import roles
+    runs, start, count = [], 0, 0
     for i, cell in enumerate(list(nb.cells) + [None]):
+        if cell is not None and (roles.has(cell, "notes") or roles.for_lecture_only(cell)):
+            continue
         if cell is None or _has_picture(cell):
-            if i - start > 12:
+            if count > 12:
                 runs.append(f"cells {start}-{i - 1}")
-            start = i + 1
+            start, count = i + 1, 0
+        else:
+            count += 1
     assert not runs, f"runs of more than 12 cells without a picture: {', '.join(runs)}"
 
 

@@ -99,7 +99,8 @@ def test_the_edition_has_every_notebook_and_what_it_needs(edition):
 def test_no_solution_text_remains(edition, path):
     out, notebooks = edition
     full = read(path)
-    full.cells = [c for c in full.cells if not student.is_notes(c)]   # test_no_speaker_notes
+    full.cells = [c for c in full.cells if not student.is_notes(c)   # test_no_speaker_notes
+                  and not roles.for_lecture_only(c)]                  # roadmap, questions: deck only
     solutions = [c for c in full.cells if student.is_solution(c)]
     kept = read(notebooks[path.name])
     assert not any(student.is_solution(c) for c in kept.cells)

@@ -491,8 +491,8 @@ class NotebookRun:
                 if cell.cell_type != "code":
                     continue
                 if time.monotonic() > end:
-                    cell.outputs = [_error("CellTimeoutError", f"the notebook ran longer than "
-                                           f"{self.notebook_timeout} s in all; this cell was not run")] \
+                    cell.outputs = [_error("CellTimeoutError", f"time limit: the notebook ran "
+                                           f"longer than {self.notebook_timeout} s in all; this cell was not run")] \
                         if is_test(cell) else []
                     continue
                 if is_answer(cell):
@@ -501,8 +501,8 @@ class NotebookRun:
                     result = self.box.run(cell.source, self.timeout)
                     cell.outputs = [from_dict(o) for o in result["outputs"]]
                     if result["status"] == "timeout":
-                        cell.outputs.append(from_dict(_error("CellTimeoutError", f"the cell ran longer "
-                                                             f"than {self.timeout} s and was stopped")))
+                        cell.outputs.append(from_dict(_error("CellTimeoutError", f"time limit: the cell ran "
+                                                             f"longer than {self.timeout} s and was stopped")))
                     if result.get("killed") or result["status"] == "died":
                         self.restart()
                     elif result["status"] != "timeout":

@@ -18,7 +18,8 @@ source notebook     nbgrader course folder, ``source/NN_name/NN_name.ipynb``
                     dropped); markdown: left out
 ``hidden-test``     moved into the test cell
 speaker notes       left out (``slide_type`` ``notes``)
-``verify``          left out: checks of the notebook's own claims, not of the learner
+``verify``, the     left out, as tools/roles.py says for the coursework: checks of
+lecture's cells     the notebook's own claims, roadmaps, questions to the hall
 ==================  ==============================================================
 
 Then ``nbgrader generate_assignment`` writes ``release/``: one assignment per notebook that
@@ -44,13 +45,13 @@ from pathlib import Path
 import nbformat
 from nbformat.v4 import new_code_cell
 
+from tools import roles
 from tools.common import BUILD, build_target, course_notebooks, read
 
 COURSE = BUILD / "coursework"
 COURSE_ID = "so3-exp-log"
 
 ANSWER, CHECK, SOLUTION, HIDDEN = "answer", "check", "solution", "hidden-test"
-VERIFY = "verify"
 _POINTS = re.compile(r"^points-(\d+(?:\.\d+)?)$")
 _EXERCISE = re.compile(r"^#{1,6}\s.*?Exercise\s+([0-9A-Z]+(?:\.[0-9]+)*)", re.M)
 
@@ -318,7 +319,7 @@ def source_notebook(nb, path="notebook"):
         if id(cell) in by_cell:
             cells.append(answer_cell(by_cell[id(cell)]))
             cells.append(test_cell(by_cell[id(cell)], imports))
-        elif id(cell) in checks or t & {SOLUTION, HIDDEN, VERIFY} or is_notes(cell):
+        elif id(cell) in checks or t & {SOLUTION, HIDDEN} or roles.left_out(cell, roles.COURSEWORK):
             continue
         else:
             cell = nbformat.from_dict(cell)

@@ -83,7 +83,8 @@ check-test-system:
 # edition) and the browser: seconds rather than minutes.
 # Nor the two tests that set up what a newcomer gets, each most of a minute: a Binder
 # image's environment in a fresh venv, and `make lab` itself.
-EDITION_TESTS = test_browser test_interactive test_slides test_book test_assignments test_student_edition
+EDITION_TESTS = test_browser test_interactive test_slides test_book test_assignments test_student_edition \
+                test_grading_sandbox
 SLOW_TESTS = tests/test_binder.py::test_binder_image_runs_a_notebook_from_another_folder \
              tests/test_newcomer.py::test_make_lab_is_a_learners_lab
 test-lib: $(STAMP) lint-lib

@@ -352,7 +352,12 @@ MEASURE_JS = r"""
         return {w: Math.round(r.width), h: Math.round(r.height),
                 big: r.width >= 0.5 * W - 1 || r.height >= 0.5 * H - 1,
                 alt: e.tagName === 'IMG' ? (e.getAttribute('alt') || '') : (e.getAttribute('aria-label') || '-')}; });
-    const notes = [...slide.querySelectorAll('aside.notes')];
+    // the notes' own text, without the <style> that the build puts at the start of each
+    const notes = [...slide.querySelectorAll('aside.notes')].map(n => {
+      const copy = n.cloneNode(true);
+      copy.querySelectorAll('style').forEach(s => s.remove());
+      return copy;
+    });
     // --- what a lecture needs (issue 23): the texts, read against the limits in Python
     const mine = sel => [...slide.querySelectorAll(sel)].filter(e => !inNotes(e));
     const mmlText = m => { const a = m.querySelector('mjx-assistive-mml'); return a ? a.textContent : ''; };

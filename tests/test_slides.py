@@ -182,7 +182,7 @@ NOT_YET = {
     "slides": "01 02 03",
     "questions": "01 02 03",
     "notes": "00 01 02 03 A1",
-    "time": "00 01 02 03 04 05 06 A1",
+    "time": "00 01 02 03 04 A1",
     "code": "00 01 02 03 A1",
     "checks": "00 01 02 03 A1",
     "coursework": "00 01 02 03 A1",
@@ -229,8 +229,9 @@ def test_lecture_measures_on_made_up_slides():
     assert x["checks"] == 3 and sorted(x["references"]) == ['"above"', "(4.15)", "N15"]
 
 
-# notebooks 01 to 05 each have a figure the learner turns (tests/test_interactive.py)
-TURNABLE = [n for n in NAMES if n[:2] in {"01", "02", "03", "04", "05"}]
+# notebooks 01 to 05 each have a figure the learner turns (tests/test_interactive.py); 05's deck
+# shows the still picture of its frame instead (the 3-D scene is too small to read in a hall)
+TURNABLE = [n for n in NAMES if n[:2] in {"01", "02", "03", "04"}]
 
 
 @pytest.mark.parametrize("name", TURNABLE)

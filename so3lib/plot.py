@@ -134,16 +134,17 @@ _NAME = re.compile(r"[a-z][a-z0-9_-]{0,62}")
 
 def new_3d_figure(title, radius=1.2, height=PLOTLY_HEIGHT):
     """A plotly figure with one 3-D scene: equal axes from -radius to radius labelled x, y,
-    z, the given title, and fonts that read on a projected slide (16 px and up)."""
+    z, the given title, and fonts as large as the matplotlib figures' on a projected slide
+    (20 px and up: the tick labels too)."""
     import plotly.graph_objects as go
 
-    axis = {"range": [-radius, radius], "autorange": False, "tickfont": {"size": 13},
+    axis = {"range": [-radius, radius], "autorange": False, "tickfont": {"size": 20}, "nticks": 5,
             "backgroundcolor": "white", "showbackground": True, "gridcolor": "#dddddd",
             "zerolinecolor": "#aaaaaa", "linecolor": "#888888"}
     fig = go.Figure()
     fig.update_layout(
-        title={"text": title, "x": 0.02, "y": 0.97, "font": {"size": 20}},
-        font={"size": 16},
+        title={"text": title, "x": 0.02, "y": 0.97, "font": {"size": 22}},
+        font={"size": 20},
         height=height,
         margin={"l": 0, "r": 0, "t": 48, "b": 0},
         legend={"x": 0.0, "y": 0.92, "bgcolor": "rgba(255,255,255,0.7)"},
@@ -221,7 +222,7 @@ def time_slider(fig, frames, labels, prefix, duration=80):
                           {"label": "❚❚ pause", "method": "animate",
                            "args": [[None], step_args]}]}],
         sliders=[{"active": 0, "x": 0.27, "len": 0.69, "y": 0.0, "yanchor": "top",
-                  "pad": {"t": 8}, "currentvalue": {"prefix": prefix, "font": {"size": 18}},
+                  "pad": {"t": 8}, "currentvalue": {"prefix": prefix, "font": {"size": 20}},
                   "steps": [{"label": str(label), "method": "animate",
                              "args": [[str(label)], step_args]} for label in labels]}],
     )

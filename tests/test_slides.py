@@ -179,18 +179,18 @@ def test_deck_presents_offline(opened, measured, name):
 # limit came in; the pairs below did not meet theirs yet, and are expected to fail until the
 # decks' content work makes them pass (then take the deck off the list, so it stays met).
 NOT_YET = {
-    "slides": "01",
-    "questions": "01",
-    "notes": "00 01 A1",
-    "time": "00 01 04 A1",
-    "code": "00 01 A1",
-    "checks": "00 01 A1",
-    "coursework": "00 01 A1",
-    "references": "00 01 A1",
-    "figures": "01 02 03 06 A1",
-    "labels": "00 01 02 03 04 06 A1",
-    "builds": "00 01 A1",
-    "summary": "01",
+    "slides": "",
+    "questions": "",
+    "notes": "",
+    "time": "04",
+    "code": "",
+    "checks": "",
+    "coursework": "",
+    "references": "",
+    "figures": "01 02 03 06",
+    "labels": "00 01 02 03 04 06",
+    "builds": "",
+    "summary": "",
 }
 
 

@@ -401,7 +401,7 @@ class Sandbox:
         kc = self.client
         msg_id = kc.execute(code, silent=silent, store_history=not silent, allow_stdin=False,
                             stop_on_error=False)
-        outputs, size, status, error = [], 0, None, None
+        outputs, size, error = [], 0, None
         deadline = time.monotonic() + timeout
         interrupted = False
         while True:
@@ -410,7 +410,6 @@ class Sandbox:
                 interrupted = True
                 self.interrupt()
                 deadline = time.monotonic() + 3
-                status = "timeout"
                 continue
             if left <= 0:
                 self.kill()

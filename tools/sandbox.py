@@ -74,13 +74,15 @@ def _bwrap_args(scratch):
             args += ["--symlink", os.readlink(target), str(target)]
         elif target.is_dir():
             args += ["--ro-bind", str(target), str(target)]
+    # /tmp first, then the folders that lead to the homes: a course cloned under /tmp (as
+    # CI does) has its venv there, and the user the kernel runs as must be able to walk in
+    args += ["--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
     made = set()
     for home in _python_homes() + [Path(scratch)]:
         for parent in reversed(home.parents):
             if str(parent) not in ("/", "/tmp") and parent not in made:
                 args += ["--perms", "0755", "--dir", str(parent)]
                 made.add(parent)
-    args += ["--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
     for home in _python_homes():
         args += ["--ro-bind", str(home), str(home)]
     args += ["--bind", str(scratch), str(scratch), "--chdir", str(scratch)]

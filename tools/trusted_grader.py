@@ -103,7 +103,10 @@ def reference_namespace(source_path):
     key = (str(path), path.stat().st_mtime)
     if key in _REFERENCE:
         return _REFERENCE[key]
-    os.environ.setdefault("MPLBACKEND", "agg")
+    # figures drawn here go nowhere; set the backend in this process only (an MPLBACKEND in
+    # os.environ would reach every kernel this process starts later, as nbval's do)
+    import matplotlib
+    matplotlib.use("agg")
     from IPython.core.interactiveshell import InteractiveShell
     shell = InteractiveShell.instance()
     shell.user_ns.clear()

@@ -143,7 +143,7 @@ def new_3d_figure(title, radius=1.2, height=PLOTLY_HEIGHT):
             "zerolinecolor": "#aaaaaa", "linecolor": "#888888"}
     fig = go.Figure()
     fig.update_layout(
-        title={"text": title, "x": 0.02, "y": 0.97, "font": {"size": 22}},
+        title={"text": title, "x": 0.02, "y": 0.97, "font": {"size": 20}},
         font={"size": 20},
         height=height,
         margin={"l": 0, "r": 0, "t": 48, "b": 0},

@@ -196,7 +196,7 @@ def test_landing_page_orients_and_each_chapter_begins_with_its_time_and_goals(pa
         article = soups[f"{nb_path.stem}.html"].select_one("article")
         blocks = article.select("h1, h2, h3, p")[:12]
         text = " ".join(b.get_text(" ") for b in blocks)
-        assert re.search(r"Time: about \d+ (h|min)", text), f"{nb_path.name}: no time at the top"
+        assert re.search(r"Time:\s+about \d+ (h|min)", text), f"{nb_path.name}: no time at the top"
         source = "\n".join(c.source for c in read(nb_path).cells if c.cell_type == "markdown")
         if "What you will learn" in source:
             assert "What you will learn" in text, f"{nb_path.name}: goals not at the top"

@@ -60,6 +60,14 @@ def _unanswered(fb):
                                          "Expected a function"))
 
 
+def _not_a_rotation_vector(name, label, a):
+    """The feedback when NAME returned, for LABEL, something other than 3 numbers (A is
+    its value as floats, or None)."""
+    shape = "something that is not numbers" if a is None else f"shape {a.shape}"
+    return Feedback(False, f"Not yet: {name}. For {label} it returned {shape}; "
+                           "expected a rotation vector of shape (3,).")
+
+
 def _as_float(x):
     try:
         return np.asarray(x, dtype=float)
@@ -528,9 +536,7 @@ def check_log_at_pi(func):
                                    "`return` missing?")
         a = _as_float(got)
         if a is None or a.shape != (3,):
-            shape = "something that is not numbers" if a is None else f"shape {a.shape}"
-            return Feedback(False, f"Not yet: {name}. For {label} it returned {shape}; "
-                                   "expected a rotation vector of shape (3,).")
+            return _not_a_rotation_vector(name, label, a)
         if not np.isfinite(a).all():
             return Feedback(False, f"Not yet: {name}. For {label} it returned NaN or inf.")
         outs.append(a)
@@ -650,9 +656,7 @@ def check_principal_log(func):
                                    "(4.9), (4.11) and (4.15)-(4.16).")
         a = _as_float(got)
         if a is None or a.shape != (3,):
-            shape = "something that is not numbers" if a is None else f"shape {a.shape}"
-            return Feedback(False, f"Not yet: {name}. For {label} it returned {shape}; "
-                                   "expected a rotation vector of shape (3,).")
+            return _not_a_rotation_vector(name, label, a)
         if not np.isfinite(a).all():
             if kind == "id":
                 hint = ("At R = I both s and theta are 0, so theta / (2 s) (or theta / (2 sin "

@@ -257,6 +257,9 @@ def test_jupyterlab_runs_the_notebook(browser, lab):
     page.locator(".jp-NotebookPanel .jp-Cell").first.wait_for()
     # the kernel is up when the status bar says so
     page.locator(".jp-StatusBar-Widget", has_text=re.compile(r"\|\s*Idle")).first.wait_for()
+    # folded cells (hide-input, verify) show no prompt: unfold them, as a curious learner would
+    _menu(page, "View", "Expand All Code")
+    _menu(page, "View", "Expand All Outputs")
     _menu(page, "Edit", "Clear Outputs of All Cells")
     page.wait_for_function("!document.querySelector('.jp-NotebookPanel .jp-OutputArea-output')")
     _menu(page, "Run", "Run All Cells")

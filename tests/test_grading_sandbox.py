@@ -67,6 +67,15 @@ ATTACKS = {
                         "        except OSError:\n"
                         "            pass\n"
                         "print('answer keys found:', len(found))\n"
+                        "for pattern in KEYS + ['../../gradebook.db', '/tmp/*/gradebook.db']:\n"
+                        "    for path in glob.glob(os.path.join(os.path.dirname(pattern), '*')):\n"
+                        "        if os.path.abspath(path).startswith(os.getcwd()):\n"
+                        "            continue              # its own scratch folder\n"
+                        "        try:\n"
+                        "            open(path, 'a').close()\n"
+                        "            print('WROTE', path)\n"
+                        "        except OSError:\n"
+                        "            pass\n"
                         "subprocess.Popen([sys.executable, '-c', 'import time\\nwhile True: "
                         f"time.sleep(0.2)  # {MARKER}'], start_new_session=True)\n"
                         + WRONG["ex9_1"],
@@ -85,6 +94,30 @@ ROUTES = {
               "def length(v):\n    return float(_pool.submit(np.linalg.norm, v).result())",
     "setprofile": "import sys\ndef length(v):\n    sys.setprofile(None)\n    import threading\n"
                   "    threading.setprofile(None)\n    return float(np.linalg.norm(v))",
+    "_thread": "import _thread, time\ndef length(v):\n    out = []\n"
+               "    _thread.start_new_thread(lambda: out.append(np.linalg.norm(v)), ())\n"
+               "    for _ in range(100):\n        if out:\n            return float(out[0])\n"
+               "        time.sleep(0.01)",
+    # NumPy's norm rebuilt from its code object, which the code swap does not reach
+    "rebuilt": "import types\n_impl = getattr(np.linalg.norm, '_implementation', np.linalg.norm)\n"
+               "_n = types.FunctionType(_impl.__code__, _impl.__globals__, None, _impl.__defaults__)\n"
+               "def length(v):\n    return float(_n(v))",
+    # the helper's frame, reached from the call, to turn its watch off
+    "frames": "import sys\ndef length(v):\n    try:\n        f = sys._getframe(1)\n"
+              "    except RuntimeError:\n        try:\n            raise ValueError\n"
+              "        except ValueError as e:\n            f = e.__traceback__.tb_frame.f_back\n"
+              "    f.f_locals.clear()\n    return float(np.linalg.norm(v))",
+    # a stand-in for the grader's helper: answers every call with the forbidden function
+    "fake-helper": "import sys, socket, json\n_audit = sys.audit\n"
+                   "def _fake(event, *args):\n    if event != 'so3grade.serve':\n"
+                   "        return _audit(event, *args)\n"
+                   "    s = socket.socket(socket.AF_UNIX); s.connect(args[0]); f = s.makefile('rwb')\n"
+                   "    for line in f:\n        req = eval(line)\n        if req['op'] == 'done':\n"
+                   "            return\n"
+                   "        x = np.array(eval(repr(req['args'])), dtype=object)\n"
+                   "        f.write((\"sig {'ok': {'f': '5.0'}, 'entered': []}\\n\").encode()); f.flush()\n"
+                   "sys.audit = _fake\n"
+                   "def length(v):\n    return float(np.linalg.norm(v))",
 }
 
 
@@ -145,7 +178,7 @@ def test_attacks_score_nothing(course, attack):
     assert not any(ok for ok, _, _ in verdicts.values()), verdicts
     assert "HIDDEN-TEST-SECRET" not in text and "HIDDEN-VALUE-SECRET" not in text
     if attack == "reader":
-        assert "answer keys found: 0" in text
+        assert "answer keys found: 0" in text and "WROTE" not in text
         time.sleep(0.5)
         left = []
         for pid in os.listdir("/proc"):

@@ -179,151 +179,262 @@ def decode(data, depth=0):
 
 
 # --- the code the grader puts into the sandboxed kernel before the learner's ------------
+#
+# It runs before any of the learner's code and leaves three things behind that the learner's
+# Python cannot undo: a seccomp filter (no new process or thread, in any thread), an audit
+# hook (sys.addaudithook: it cannot be removed) and, inside that hook's closure, the serving
+# loop. The grader reaches it with sys.audit("so3grade.serve", PATH). While it serves, the
+# hook refuses what would reach into it (frames, gc's object lists, setprofile/settrace,
+# code swaps, ctypes, new functions from code objects); what it saw is signed with a key
+# only the hook holds (read from a file it deletes), so a stand-in for it, written by the
+# learner, cannot answer the grader. It uses only builtins and C functions captured before
+# the learner's code ran: patching json, socket, hmac, numpy or builtins changes nothing
+# the grader trusts.
 
-HELPER = r'''
+HELPER = r"""
 def _so3grade_setup():
-    import importlib.util, sys, threading, types
-    spec = importlib.util.spec_from_loader("_so3grade", loader=None)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules["_so3grade"] = mod
-    exec(compile(SOURCE, "<grader>", "exec"), mod.__dict__)
-    mod.install()
+    import builtins
+    ns = {"__builtins__": dict(vars(builtins)), "__name__": "<grader>"}
+    exec(compile(SOURCE, "<grader>", "exec"), ns)
+    ns["install"](KEYPATH)
 _so3grade_setup()
 del _so3grade_setup
-'''
+"""
 
-HELPER_SOURCE = r'''
-import json, socket, sys, threading, types
-_real = {"setprofile": sys.setprofile, "settrace": sys.settrace,
-         "tsetprofile": threading.setprofile, "tsettrace": threading.settrace}
-_state = {"on": False, "entered": set(), "tampered": False}
+HELPER_SOURCE = r"""
+import sys, os, _socket, _thread, _functools
 
-def _hook(frame, event, arg):
-    if event == "call" and _state["on"]:
-        c = frame.f_code
-        if len(_state["entered"]) < 20000:
-            _state["entered"].add((c.co_filename, c.co_firstlineno, c.co_name))
+def _no_new_tasks():
+    # seccomp, for every thread of the kernel: clone, clone3, fork and vfork fail (EAGAIN)
+    import ctypes, platform, struct
+    machine = platform.machine()
+    table = {"x86_64": (0xC000003E, (56, 57, 58, 435), 317),
+             "aarch64": (0xC00000B7, (220, 435), 277)}
+    if machine not in table:
+        return False
+    arch, calls, nr_seccomp = table[machine]
+    LD, JEQ, JGE, RET = 0x20, 0x15, 0x35, 0x06
+    deny, allow = 0x00050000 | 11, 0x7FFF0000
+    n = len(calls)                     # jumps count the instructions skipped
+    prog = [(LD, 0, 0, 4), (JEQ, 0, n + 2, arch), (LD, 0, 0, 0), (JGE, n + 1, 0, 0x40000000)]
+    prog += [(JEQ, n - i, 0, nr) for i, nr in enumerate(calls)]
+    prog += [(RET, 0, 0, allow), (RET, 0, 0, deny)]
+    raw = b"".join(struct.pack("HBBI", *ins) for ins in prog)
+    buf = ctypes.create_string_buffer(raw, len(raw))
+    class Fprog(ctypes.Structure):
+        _fields_ = [("len", ctypes.c_ushort), ("filter", ctypes.c_void_p)]
+    fprog = Fprog(len(prog), ctypes.addressof(buf))
+    libc = ctypes.CDLL(None, use_errno=True)
+    libc.prctl(38, 1, 0, 0, 0)                       # PR_SET_NO_NEW_PRIVS
+    ok = libc.syscall(nr_seccomp, 1, 1, ctypes.byref(fprog)) == 0   # SET_MODE_FILTER, TSYNC
+    return ok
 
-def _refuse(name):
-    real = _real[name]
-    def switch(*args, **kwargs):
-        if _state["on"]:
-            _state["tampered"] = True
-            return None
-        return real(*args, **kwargs)
-    switch.__name__ = real.__name__
-    return switch
+def install(keypath):
+    with open(keypath, "rb") as fh:
+        key = fh.read()
+    os.unlink(keypath)
+    from _hashlib import openssl_sha256 as sha
+    blocks = _no_new_tasks()
+    real = {"setprofile": sys.setprofile, "getprofile": sys.getprofile, "audit": sys.audit,
+            "partial": _functools.partial, "ident": _thread.get_ident, "main": _thread.get_ident(),
+            "tb": BaseException.__dict__["__traceback__"], "modules": sys.modules}
+    st = {"guard": False, "watch": False, "internal": 0, "entered": set(), "tampered": [],
+          "serving": False}
+    ipad = bytes(b ^ 0x36 for b in key.ljust(64, b"\0"))
+    opad = bytes(b ^ 0x5C for b in key.ljust(64, b"\0"))
+    del key
+    def sign(data):
+        return sha(opad + sha(ipad + data).digest()).hexdigest()
+    always = {"gc.get_objects", "gc.get_referrers", "gc.get_referents", "sys.addaudithook"}
+    guarded = {"sys.setprofile", "sys.settrace", "sys._getframe", "sys._current_frames",
+               "function.__new__", "code.__new__", "object.__setattr__", "object.__delattr__",
+               "sys.setrecursionlimit", "os.fork", "subprocess.Popen"}
+    frames = {"tb_frame", "gi_frame", "cr_frame", "ag_frame", "f_back", "tb_next"}
 
-def install():
-    _real["tsetprofile"](_hook)
-    sys.setprofile = _refuse("setprofile")
-    sys.settrace = _refuse("settrace")
-    threading.setprofile = _refuse("tsetprofile")
-    threading.settrace = _refuse("tsettrace")
+    def hook(event, args):
+        if st["internal"]:
+            return
+        if event == "so3grade.entered":
+            if st["watch"] and len(args) == 3 and args[1] == "call" and len(st["entered"]) < 20000:
+                try:
+                    c = args[0].f_code
+                    if c.co_filename != "<grader>":
+                        st["entered"].add((str(c.co_filename), int(c.co_firstlineno), str(c.co_name)))
+                except Exception:
+                    pass
+            return
+        if event == "so3grade.serve":
+            if st["serving"] or real["ident"]() != real["main"]:
+                raise RuntimeError("the grader's helper is already serving")
+            serve(args[0])
+            return
+        refuse = event in always
+        if event in ("sys.setprofile", "sys.settrace") and real["ident"]() != real["main"]:
+            refuse = True
+        if st["guard"] and (event in guarded or event.startswith("ctypes.") or
+                            (event == "object.__getattr__" and len(args) > 1 and args[1] in frames)):
+            refuse = True
+        if refuse:
+            if st["guard"]:
+                st["tampered"].append(event)
+            raise RuntimeError(f"{event} is not available in graded code")
 
-def _disabled(targets):
-    """Swap the code of each library function the hidden test turned off: every way of
-    reaching it (an alias, functools.partial, getattr, a thread) then fails."""
-    import importlib
-    swapped = []
-    def off(*args, **kwargs):
-        raise RuntimeError("this function is not allowed in this exercise")
-    for module, name in targets:
+    def internal(fn, *args):
+        st["internal"] += 1
         try:
-            fn = getattr(importlib.import_module(module), name)
-        except Exception:
-            continue
-        fn = getattr(fn, "_implementation", fn)
-        code = getattr(fn, "__code__", None)
-        if code is not None and not code.co_freevars:
-            fn.__code__ = off.__code__
-            swapped.append((fn, code))
-    return swapped
+            return fn(*args)
+        finally:
+            st["internal"] -= 1
 
-def serve(path):
-    import numpy as np
-    from IPython import get_ipython
-    ns = get_ipython().user_ns
-    sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    sock.connect(path)
-    stream = sock.makefile("rwb")
-    try:
-        while True:
-            line = stream.readline()
-            if not line:
-                return
-            req = json.loads(line)
-            if req["op"] == "done":
-                return
-            reply = {}
-            try:
-                if req["name"] not in ns:
-                    raise NameError(f"name {req['name']!r} is not defined")
-                obj = ns[req["name"]]
-                if req["op"] == "value":
-                    reply["ok"] = ENCODE(obj)
-                elif req["op"] == "describe":
-                    reply["ok"] = _describe(obj)
-                elif req["op"] == "call":
-                    args = DECODE(req["args"])
-                    _state["entered"], _state["tampered"] = set(), False
-                    swapped = _disabled(req.get("disabled", []))
-                    _real["setprofile"](_hook)
-                    _state["on"] = True
+    def literal(obj, depth=0):
+        # the reply, written with builtins only (never json, which the learner may patch)
+        if depth > 40:
+            raise ValueError("nested too deep")
+        t = type(obj)
+        if obj is None or t is bool or t is int:
+            return repr(obj)
+        if t is float:
+            return repr(obj) if obj - obj == 0 else repr(repr(obj))
+        if t is str:
+            return repr(obj)
+        if t in (list, tuple):
+            return "[" + ", ".join(literal(x, depth + 1) for x in obj) + "]"
+        if t is dict:
+            return "{" + ", ".join(literal(k, depth + 1) + ": " + literal(v, depth + 1)
+                                   for k, v in obj.items()) + "}"
+        raise ValueError("not plain data")
+
+    def disable(targets):
+        swapped = []
+        def off(*args, **kwargs):
+            raise RuntimeError("this function is not allowed in this exercise")
+        for module, name in targets:
+            fn = getattr(real["modules"].get(module), name, None)
+            fn = getattr(fn, "_implementation", fn)
+            if type(fn) is not type(off):
+                continue
+            code = fn.__code__
+            if not code.co_freevars:
+                internal(setattr, fn, "__code__", off.__code__)
+                swapped.append((fn, code))
+        return swapped
+
+    def call(obj, args, targets):
+        st["entered"], st["tampered"] = set(), []
+        swapped = disable(targets)
+        probe = real["partial"](real["audit"], "so3grade.entered")
+        getprofile = sys.getprofile
+        internal(real["setprofile"], probe)
+        sys.getprofile = type(None)            # the learner's code cannot see the probe
+        st["watch"] = True
+        try:
+            result = ENCODE(obj(*args))        # __array__ and __float__ run while watched
+        finally:
+            st["watch"] = False
+            if real["getprofile"]() is not probe or probe.func is not real["audit"] \
+                    or probe.args != ("so3grade.entered",):
+                st["tampered"].append("profile")
+            internal(real["setprofile"], None)
+            sys.getprofile = getprofile
+            for fn, code in swapped:
+                internal(setattr, fn, "__code__", code)
+        return result
+
+    def serve(path):
+        from IPython import get_ipython
+        user_ns = get_ipython().user_ns
+        sock = _socket.socket(_socket.AF_UNIX, _socket.SOCK_STREAM)
+        st["serving"] = st["guard"] = True
+        try:
+            sock.connect(path)
+            pending = b""
+            while True:
+                while b"\n" not in pending:
+                    chunk = sock.recv(1 << 20)
+                    if not chunk:
+                        return
+                    pending += chunk
+                line, _, pending = pending.partition(b"\n")
+                req = eval(line.decode(), {"__builtins__": {}})     # the grader's own literal
+                if req.get("op") == "done":
+                    return
+                reply = {}
+                try:
+                    if req["name"] not in user_ns:
+                        raise NameError(f"name {req['name']!r} is not defined")
+                    obj = user_ns[req["name"]]
+                    if req["op"] == "value":
+                        reply["ok"] = ENCODE(obj)
+                    elif req["op"] == "describe":
+                        reply["ok"] = _describe(obj)
+                    elif req["op"] == "call":
+                        reply["ok"] = call(obj, DECODE(req["args"]), req.get("disabled", []))
+                        reply["entered"] = sorted(st["entered"])
+                        reply["tampered"] = list(st["tampered"])
+                except BaseException as err:
+                    st["watch"] = False
+                    reply.pop("ok", None)
+                    reply["entered"] = sorted(st["entered"])
+                    reply["tampered"] = list(st["tampered"])
                     try:
-                        result = obj(*args)
-                    finally:
-                        _state["on"] = False
-                        _real["setprofile"](None)
-                        for fn, code in swapped:
-                            fn.__code__ = code
-                    reply["entered"] = sorted(_state["entered"])
-                    reply["tampered"] = _state["tampered"]
-                    reply["ok"] = ENCODE(result)
-            except BaseException as err:
-                _state["on"] = False
-                reply.pop("ok", None)
-                reply["error"] = [type(err).__name__, str(err)[:300]]
-                if isinstance(err, KeyboardInterrupt):
-                    reply["error"][0] = "KeyboardInterrupt"
-            stream.write(json.dumps(reply).encode() + b"\n")
-            stream.flush()
-    finally:
-        _state["on"] = False
-        sock.close()
+                        real["tb"].__set__(err, None)      # no way back to this frame
+                        text = BaseException.__str__(err)[:300]
+                    except BaseException:
+                        text = ""
+                    name = type(err).__name__ if type(type(err).__name__) is str else "Error"
+                    if isinstance(err, KeyboardInterrupt):
+                        name = "KeyboardInterrupt"
+                    reply["error"] = [name[:100], text]
+                    err = None
+                try:
+                    body = literal(reply)
+                except ValueError:
+                    body = literal({"error": ["TypeError", "the answer is not plain data"]})
+                data = body.encode()
+                sock.sendall(sign(line + b"\n" + data).encode() + b" " + data + b"\n")
+        finally:
+            st["serving"] = st["guard"] = st["watch"] = False
+            sock.close()
 
-def _code(code, depth=0):
-    consts = [_code(k, depth + 1) for k in code.co_consts if hasattr(k, "co_names") and depth < 8]
-    return {"name": code.co_name, "names": list(code.co_names), "consts": consts}
+    def _code(code, depth=0):
+        consts = [_code(k, depth + 1) for k in code.co_consts if type(k) is type(_code.__code__) and depth < 8]
+        return {"name": str(code.co_name), "names": [str(n) for n in code.co_names], "consts": consts}
 
-def _describe(fn):
-    code = getattr(fn, "__code__", None)
-    if code is None or not hasattr(code, "co_names"):
-        return {"callable": callable(fn), "name": str(getattr(fn, "__name__", ""))}
-    space = getattr(fn, "__globals__", {})
-    names, todo, seen = set(), [code], set()
-    while todo:
-        c = todo.pop()
-        if id(c) in seen:
-            continue
-        seen.add(id(c))
-        names |= set(c.co_names)
-        todo += [k for k in c.co_consts if hasattr(k, "co_names")]
-        for n in c.co_names:
+    def _describe(fn):
+        code = getattr(fn, "__code__", None)
+        if type(code) is not type(_code.__code__):
+            return {"callable": bool(callable(fn)), "name": ""}
+        space = getattr(fn, "__globals__", {})
+        space = space if type(space) is dict else {}
+        names, todo, seen = set(), [code], set()
+        while todo:
+            c = todo.pop()
+            if id(c) in seen:
+                continue
+            seen.add(id(c))
+            names |= set(c.co_names)
+            todo += [k for k in c.co_consts if type(k) is type(code)]
+            for n in c.co_names:
+                g = space.get(n)
+                if type(g) is type(_describe) and g.__globals__ is space:
+                    todo.append(g.__code__)
+        glob = {}
+        for n in sorted(names):
             g = space.get(n)
-            if getattr(g, "__globals__", None) is space and hasattr(g, "__code__"):
-                todo.append(g.__code__)
-    glob = {}
-    for n in sorted(names):
-        g = space.get(n)
-        if g is None:
-            continue
-        if getattr(g, "__globals__", None) is space and hasattr(g, "__code__"):
-            glob[n] = {"own": _code(g.__code__), "name": str(g.__name__)}
-        elif isinstance(getattr(g, "__name__", None), str):
-            glob[n] = {"name": g.__name__}
-    return {"code": _code(code), "globals": glob, "name": str(getattr(fn, "__name__", ""))}
-'''
+            if g is None:
+                continue
+            if type(g) is type(_describe) and g.__globals__ is space:
+                glob[str(n)] = {"own": _code(g.__code__), "name": str(g.__name__)}
+            else:
+                label = getattr(g, "__name__", None)
+                if type(label) is str:
+                    glob[str(n)] = {"name": label}
+        return {"code": _code(code), "globals": glob, "name": str(getattr(fn, "__name__", ""))}
+
+    hook.__cantrace__ = True     # the probe must see the calls made inside the serving hook
+    sys.addaudithook(hook)
+    return blocks
+"""
 
 
 class KernelDied(Exception):
@@ -387,9 +498,16 @@ class Sandbox:
                 self.client.get_iopub_msg(timeout=0.2)
             except Exception:
                 break
-        reply = self.run(HELPER.replace("SOURCE", repr(HELPER_SOURCE.replace("ENCODE", "_encode")
-                                                         .replace("DECODE", "_decode")
-                                                         + _codec_source())), 30, silent=True)
+        keypath = self.scratch / f".grader-key{self.starts}"
+        self.key = os.urandom(32)
+        fd = os.open(keypath, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(self.key)
+        if os.geteuid() == 0:
+            os.chown(keypath, NOBODY, NOBODY)
+        source = HELPER_SOURCE.replace("ENCODE", "_encode").replace("DECODE", "_decode") + _codec_source()
+        reply = self.run(HELPER.replace("KEYPATH", repr(str(keypath))).replace("SOURCE", repr(source)),
+                         30, silent=True)
         if reply["status"] != "ok":
             raise KernelDied(f"the grader's helper did not load: {reply}")
 

@@ -25,8 +25,9 @@ late penalties, the feedback), but its `Execute` step is replaced by `SandboxExe
 
 import ast
 import contextlib
+import hashlib
+import hmac
 import io
-import json
 import os
 import socket
 import sys
@@ -298,7 +299,9 @@ class Channel:
             os.chown(path, sandbox.NOBODY, sandbox.NOBODY)
         listener.listen(1)
         listener.settimeout(min(budget, 20))
-        self.msg_id = box.client.execute(f"import _so3grade; _so3grade.serve({str(path)!r})",
+        # the helper's audit hook serves; a stand-in the learner put in its place cannot
+        # sign its answers (Channel.request)
+        self.msg_id = box.client.execute(f"__import__('sys').audit('so3grade.serve', {str(path)!r})",
                                          silent=True, store_history=False)
         try:
             self.sock, _ = listener.accept()
@@ -313,8 +316,10 @@ class Channel:
         if self.stream is None:
             self.open(self.run.left())
         self.sock.settimeout(max(0.1, self.run.left()))
+        req = dict(req, nonce=os.urandom(16).hex())
+        sent = repr(req).encode()          # a Python literal: the helper reads it without json
         try:
-            self.stream.write(json.dumps(req).encode() + b"\n")
+            self.stream.write(sent + b"\n")
             self.stream.flush()
             line = self.stream.readline(200_000_000)
         except (socket.timeout, TimeoutError):
@@ -328,16 +333,21 @@ class Channel:
                 raise StudentError("KernelDied", "the notebook's kernel stopped (memory or process "
                                    "limit, or it was ended)")
             raise StudentError("GraderUnreachable", "the kernel stopped answering the grader")
+        sig, _, body = line.rstrip(b"\n").partition(b" ")
+        expected = hmac.new(self.run.box.key, sent + b"\n" + body, hashlib.sha256).hexdigest().encode()
+        if not hmac.compare_digest(sig, expected):
+            raise StudentError("GraderTampered", "the kernel's answer to the grader was not written "
+                               "by the grader's helper (was the kernel or the helper replaced?)")
         try:
-            return json.loads(line)
-        except ValueError:
+            return ast.literal_eval(body.decode())
+        except (ValueError, SyntaxError, UnicodeDecodeError):
             raise StudentError("TypeError", "the kernel answered with something that is not data") from None
 
     def close(self):
         if self.stream is not None:
             try:
                 self.sock.settimeout(2)
-                self.stream.write(b'{"op": "done"}\n')
+                self.stream.write(repr({"op": "done"}).encode() + b"\n")
                 self.stream.flush()
             except OSError:
                 pass
@@ -365,7 +375,17 @@ _PRISTINE = {}
 def _snapshot():
     for mod_name, module in list(sys.modules.items()):
         if mod_name.startswith(("so3lib", "numpy.linalg", "scipy.linalg")) and mod_name not in _PRISTINE:
-            _PRISTINE[mod_name] = {n for n, v in vars(module).items() if callable(v)}
+            _PRISTINE[mod_name] = {n: v for n, v in vars(module).items() if callable(v)}
+
+
+def _code_key(fn):
+    """(file, first line, name) of a library function's code, as the sandbox reports it."""
+    for attr in ("_implementation", "__wrapped__"):
+        fn = getattr(fn, attr, fn)
+    code = getattr(fn, "__code__", None)
+    if not isinstance(code, types.CodeType):
+        return None
+    return (code.co_filename, code.co_firstlineno, code.co_name)
 
 
 class StudentFunction:
@@ -378,9 +398,17 @@ class StudentFunction:
         if kwargs:
             raise TypeError("keyword arguments are not passed to the sandbox")
         ch = self._channel
+        disabled = _disabled(None)
         reply = ch.request({"op": "call", "name": self.__name__, "args": sandbox.encode(list(args)),
-                            "disabled": _disabled(None)})
+                            "disabled": disabled})
         entered = [tuple(e) for e in reply.get("entered", [])]
+        # a function the hidden test turned off, entered all the same (rebuilt from its code
+        # object, reloaded): the code swap in the sandbox missed it, the record did not
+        ruled_out = {_code_key(_PRISTINE[m][n]): n for m, n in disabled}
+        reached = sorted({ruled_out[e] for e in entered if e in ruled_out})
+        if reached:
+            raise StudentError("RuntimeError", f"{self.__name__} used {', '.join(reached)}, "
+                               "which this exercise rules out")
         ch.entered_names.setdefault(self.__name__, set()).update(e[2] for e in entered)
         hook = sys.getprofile()
         if hook is not None and entered:
@@ -391,8 +419,8 @@ class StudentFunction:
             finally:
                 sys.setprofile(hook)
         if reply.get("tampered"):
-            raise StudentError("RuntimeError", f"{self.__name__} switched off the grader's watch "
-                               "(sys.setprofile / settrace)")
+            raise StudentError("RuntimeError", f"{self.__name__} reached into the grader's watch "
+                               f"({', '.join(map(str, reply['tampered']))[:200]})")
         if "error" in reply:
             raise StudentError(*reply["error"])
         try:

@@ -96,6 +96,26 @@ def test_02_exp_and_2_6_grow_like_theta_eps_over_random_rotation_vectors():
     assert worst_exp > 1 or worst_26 > 1        # "only luck of the axis" keeps the figure below 1
 
 
+def test_02_exercise_2_3_solution_verdict_holds_with_any_faithful_cos():
+    """Exercise 2.3's solution prints "within half a digit of 1e-8" from np.cos. Correctly
+    rounded, the worst relative error of the naive B over [x/1.25, 1.25 x] is about 1.6e-8;
+    a faithful cos (either float next to cos x) can at most double each error, and even
+    the worse choice at every point stays within 10^-8.5 to 10^-7.5."""
+    x = math.sqrt(EPS / (2 * 1e-8))
+    best = worst = 0.0
+    for s in np.geomspace(x / 1.25, 1.25 * x, 201):
+        s = float(s)
+        with mpmath.workdps(60):
+            c = mpmath.cos(mpmath.mpf(s))
+            ref = (1 - c) / mpmath.mpf(s) ** 2
+            nearest = float(c)
+            other = float(np.nextafter(nearest, 2.0 if c > nearest else 0.0))  # across cos x
+        errs = [abs(float(((1 - f) / (s * s) - ref) / ref)) for f in (nearest, other)]
+        best, worst = max(best, errs[0]), max(worst, max(errs))
+    assert 10 ** -8.5 <= best and worst <= 10 ** -7.5
+    assert 1.3e-8 < best < 1.7e-8
+
+
 @pytest.mark.parametrize("seed", [1, 2])
 def test_02_exp_is_mixed_stable(seed):
     """Section 6: exp(phi) is within 8 eps of the exact e^{hat(phi (1 + delta))} for a delta

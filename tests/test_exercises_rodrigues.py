@@ -114,6 +114,17 @@ def test_naive_B_digits_predicted_and_measured_answers_pass():
         assert fb and repr(fb).startswith("Correct: x_8_digits"), repr(fb)
 
 
+def test_naive_B_digits_verdict_does_not_use_the_machines_cos(monkeypatch):
+    """The checker rounds cos x itself: a maths library whose cos is only faithful (one
+    float off) changes neither the measured errors nor the verdict."""
+    xs = np.geomspace(1e-4 / 1.25, 1.25e-4, 201)
+    before = rodrigues._naive_B_error(xs)
+    real_cos = np.cos
+    monkeypatch.setattr(np, "cos", lambda x: np.nextafter(real_cos(x), 0.0))   # one float low
+    assert np.array_equal(rodrigues._naive_B_error(xs), before)
+    assert repr(check_naive_B_digits(1.05e-4)).startswith("Correct: x_8_digits")
+
+
 @pytest.mark.parametrize("answer, pattern", [
     (None, "No answer yet"),
     (..., "No answer yet"),

@@ -120,7 +120,8 @@ def check_so2_log(func):
     Names the usual slips: arccos of ``R[0, 0]`` (loses the sign, and at 1e-9 every digit,
     even with the sign of ``R[1, 0]`` attached), arctan of the ratio (loses the quadrant), a
     sign flipped by reading ``R[0, 1]``, degrees, a complex logarithm :math:`j\alpha`, lost
-    precision, and plain ``np.arctan2`` next to the cut (returns the double ``-np.pi``). Refuses a
+    precision, and plain ``np.arctan2`` next to the cut (returns the double ``-np.pi``, or with
+    an atan2 that is only faithful the double below it). Refuses a
     function that calls ``so2.log``, which the exercise asks the learner to write.
     """
     name = "so2_log"
@@ -174,14 +175,16 @@ def check_so2_log(func):
                                    "the double -np.pi, outside (-np.pi, np.pi]: this "
                                    "half-turn's R[1, 0] is the float -0.0, and "
                                    "np.arctan2(-0.0, -1.0) returns -np.pi.\nHint: return "
-                                   "np.pi wherever np.arctan2 gives -np.pi.")
+                                   "np.pi wherever np.arctan2 gives -np.pi or less.")
         if same and t == _NEAR_CUT:
             return Feedback(False, f"Not yet: {name}. On {label} it returned {alpha:.6g}, "
-                                   "the double -np.pi, outside (-np.pi, np.pi]. R[1, 0] is "
-                                   "-1e-16 here, not zero, but -pi + 1e-16 rounds to the "
-                                   "double -np.pi: a test for R[1, 0] == 0 misses it.\nHint: "
-                                   "look at what np.arctan2 returned, not at R: return np.pi "
-                                   "wherever it gives -np.pi.")
+                                   "at or below the double -np.pi, outside (-np.pi, np.pi]. "
+                                   "R[1, 0] is -1e-16 here, not zero, but -pi + 1e-16 rounds "
+                                   "to the double -np.pi (a maths library that is not "
+                                   "correctly rounded may even give the double below it): a "
+                                   "test for R[1, 0] == 0 misses it.\nHint: look at what "
+                                   "np.arctan2 returned, not at R: return np.pi wherever it "
+                                   "gives -np.pi or less.")
         if same:
             return Feedback(False, f"Not yet: {name}. On {label} it returned {alpha:.6g}: "
                                    "the right rotation, but outside (-pi, pi].\nHint: the "

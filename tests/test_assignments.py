@@ -361,3 +361,26 @@ def test_staging_sorts_out_what_cannot_be_graded(tmp_path):
     assert (dirs / "bo" / "A" / "A.ipynb").exists(), "the submitted folder is never changed"
     assert "missing A.ipynb" in problems[("cy", "A")]
     assert ("di", "Z") not in problems and ("di", "Z") not in jobs
+
+
+def test_written_part_becomes_a_manually_graded_cell(tmp_path):
+    """A task tagged `written` and `points-N` is followed by a markdown answer cell that
+    nbgrader grades by hand (formgrader); the release keeps only its stub."""
+    nb = read(FIXTURE)
+    task = next(c for c in nb.cells if c.cell_type == "markdown" and "Exercise 9.1" in c.source)
+    task.metadata["tags"] = sorted(set(task.metadata.get("tags", [])) | {"written", "points-2"})
+    path = tmp_path / FIXTURE.name
+    nbformat.write(nb, str(path))
+    assignments.build(tmp_path / "course", [path], log=lambda *a: None)
+    for edition in ("source", "release"):
+        out = read(tmp_path / "course" / edition / path.stem / path.name)
+        k = next(i for i, c in enumerate(out.cells) if "Exercise 9.1" in c.source)
+        cell = out.cells[k + 1]
+        meta = cell.metadata["nbgrader"]
+        assert cell.cell_type == "markdown" and meta["grade_id"] == "ex9_1-written"
+        assert meta["grade"] and meta["solution"] and meta["points"] == 2
+        assert ("YOUR ANSWER HERE" in cell.source) == (edition == "release")
+    from nbgrader.api import Gradebook
+    with Gradebook(f"sqlite:///{tmp_path / 'course' / 'gradebook.db'}") as gb:
+        cells = {c.name: (c.max_score, c.cell_type) for c in gb.find_notebook(path.stem, path.stem).grade_cells}
+    assert cells["ex9_1-written"] == (2, "markdown")

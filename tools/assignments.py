@@ -17,6 +17,9 @@ source notebook     nbgrader course folder, ``source/NN_name/NN_name.ipynb``
 ``solution``        code: moved into the answer cell (a trailing checker call is
                     dropped); markdown: left out
 ``hidden-test``     moved into the test cell
+``written`` +       the task's markdown cell, then a new markdown answer cell worth N
+``points-N``        points, graded by hand in nbgrader's formgrader (a proof on paper,
+                    a prediction); the student writes below "YOUR ANSWER HERE"
 speaker notes       left out (``slide_type`` ``notes``)
 ``verify``, the     left out, as tools/roles.py says for the coursework: checks of
 lecture's cells     the notebook's own claims, roadmaps, questions to the hall
@@ -52,6 +55,7 @@ COURSE = BUILD / "coursework"
 COURSE_ID = "so3-exp-log"
 
 ANSWER, CHECK, SOLUTION, HIDDEN = "answer", "check", "solution", "hidden-test"
+WRITTEN = "written"
 _POINTS = re.compile(r"^points-(\d+(?:\.\d+)?)$")
 _EXERCISE = re.compile(r"^#{1,6}\s.*?Exercise\s+([0-9A-Z]+(?:\.[0-9]+)*)", re.M)
 
@@ -291,6 +295,24 @@ def answer_cell(ex):
     return cell
 
 
+def written_cell(cell, where):
+    """The manually graded markdown answer cell that follows a task tagged `written`."""
+    m = _EXERCISE.search(cell.source)
+    if cell.cell_type != "markdown" or not m:
+        raise ConventionError(f"{where}: a cell tagged 'written' is the markdown task of an "
+                              "exercise (its heading says 'Exercise N.M')")
+    points = _points(cell, where)
+    grade_id = "ex" + re.sub(r"[^0-9A-Za-z]+", "_", m.group(1)) + "-written"
+    source = (f"**Your written answer to exercise {m.group(1)}** ({points} "
+              f"point{'s' if points != 1 else ''}, graded by hand):\n\n"
+              f"{BEGIN_SOLUTION}\nThe worked solution is in the instructor's notebook.\n{END_SOLUTION}")
+    out = nbformat.v4.new_markdown_cell(source)
+    out.metadata["nbgrader"] = _nbgrader(grade_id, grade=True, solution=True, locked=False,
+                                         points=points)
+    out["id"] = grade_id
+    return out
+
+
 def test_cell(ex, imports):
     hidden = "\n\n".join(c.source.strip() for c in ex.hidden)
     parts = []
@@ -322,11 +344,14 @@ def source_notebook(nb, path="notebook"):
         elif id(cell) in checks or t & {SOLUTION, HIDDEN} or roles.left_out(cell, roles.COURSEWORK):
             continue
         else:
+            written = WRITTEN in t and not roles.left_out(cell, roles.COURSEWORK)
             cell = nbformat.from_dict(cell)
             if cell.cell_type == "code":
                 cell.outputs, cell.execution_count = [], None
             cell.metadata.pop("nbgrader", None)
             cells.append(cell)
+            if written:
+                cells.append(written_cell(cell, f"{Path(path).name}, cell {cell.get('id', '?')}"))
     out = nbformat.from_dict(nb)
     out.cells = cells
     out.metadata["kernelspec"] = {"display_name": "Python 3 (ipykernel)", "language": "python",

@@ -181,7 +181,7 @@ SUBMITTED ?= build/coursework/submitted
 TIMEOUT ?= 60
 JOBS ?= 1
 grade: $(STAMP)
-	$(BIN)/python -m tools.grade $(SUBMITTED) --timeout $(TIMEOUT) --jobs $(JOBS)
+	$(BIN)/python -m tools.grade $(SUBMITTED) --timeout $(TIMEOUT) --jobs $(JOBS) $(if $(FORCE),--force)
 
 clean:
 	rm -rf $(VENV) build .pytest_cache .hypothesis

@@ -131,6 +131,25 @@ c.Autograde.autograde_preprocessors = [SandboxExecute, IgnorePattern, ClearMetad
 c.SandboxExecute.course = {root!r}
 c.SandboxExecute.timeout = {timeout}
 c.SandboxExecute.notebook_timeout = {notebook_timeout}
+
+# The instructor's own settings (late penalties, ...): course_config.py, which `make
+# assignments` writes once and then leaves alone.
+load_subconfig("course_config.py")  # noqa: F821
+'''
+
+#: course_config.py as first written: the settings an instructor changes during a term.
+COURSE_CONFIG = '''\
+# Your course's settings: nbgrader_config.py loads this file, and `make assignments`
+# never overwrites it. See the README, "One term, step by step".
+c = get_config()  # noqa: F821
+
+# Late work, nbgrader's LateSubmissionPlugin: "none" keeps the score (grades.csv still
+# shows the timestamp and the seconds late), "zero" scores a late submission 0.
+c.LateSubmissionPlugin.penalty_method = "none"
+
+# Due dates are kept in the gradebook, per assignment: in this folder run
+#     nbgrader db assignment add 01_hat_map_and_lemma --duedate="2027-01-22 17:00:00 UTC"
+# or set them in formgrader's "Manage Assignments" page.
 '''
 DEFAULT_TIMEOUT = 60
 
@@ -363,6 +382,8 @@ def source_notebook(nb, path="notebook"):
 
 def write_config(course, timeout=DEFAULT_TIMEOUT, notebook_timeout=None):
     course = Path(course)
+    if not (course / "course_config.py").exists():
+        (course / "course_config.py").write_text(COURSE_CONFIG, encoding="utf-8")
     (course / "nbgrader_config.py").write_text(
         CONFIG.format(course_id=COURSE_ID, root=str(course.resolve()), timeout=int(timeout),
                       repo=str(Path(__file__).resolve().parent.parent),

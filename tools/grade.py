@@ -211,8 +211,18 @@ def _tail(run):
     return _first_line("\n".join(errors[-3:]) or text[-500:], 500)
 
 
+def _digest(course, student, assignment):
+    """What a grade depends on: the submitted notebooks, their timestamp, the source."""
+    import hashlib
+    h = hashlib.sha256()
+    for folder in (Path(course) / "submitted" / student / assignment, Path(course) / "source" / assignment):
+        for path in sorted(folder.glob("*.ipynb")) + sorted(folder.glob("timestamp.txt")):
+            h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
 def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=None,
-          out=BUILD / "grades.csv", log=print, jobs_at_once=1):
+          out=BUILD / "grades.csv", log=print, jobs_at_once=1, force=False):
     """Grade every student and assignment in SUBMITTED; returns the rows of the CSV."""
     course = Path(course).resolve()
     if not (course / "gradebook.db").exists() or not (course / "source").is_dir():
@@ -227,6 +237,24 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
     jobs, problems = _stage(submitted, course, known, log)
     staged = set(jobs) | set(problems)
     students = sorted({s for s, _ in jobs} | {s for s, _ in problems})
+
+    # a submission graded before and unchanged since (the same notebooks, timestamp and
+    # source) keeps its grades, hand grades included, and its feedback: it is not run again
+    record_path = course / "grade-digests.json"
+    try:
+        digests = json.loads(record_path.read_text())
+    except (OSError, ValueError):
+        digests = {}
+    now = {job: _digest(course, *job) for job in jobs}
+    with _gradebook(course) as gb:
+        unchanged = {job for job in jobs if not force and job not in problems
+                     and digests.get("/".join(job)) == now[job] and _submitted(gb, *job)
+                     and (course / "autograded" / job[0] / job[1]).is_dir()}
+    if unchanged:
+        log(f"{len(unchanged)} submissions unchanged since they were graded: kept as they are")
+    jobs = [job for job in jobs if job not in unchanged]
+    for job in set(jobs) | set(problems):
+        digests.pop("/".join(job), None)
 
     for student, assignment in set(jobs) | set(problems):
         for stale in ("autograded", "feedback"):     # an earlier run's results for them
@@ -302,6 +330,8 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
             except Exception:
                 pass
     jobs = [job for job in jobs if job not in failed_jobs]
+    digests.update({"/".join(job): now[job] for job in jobs})
+    record_path.write_text(json.dumps(digests, indent=1, sort_keys=True))
 
     # feedback only for the submissions graded now (their old pages were removed above):
     # without --force, nbgrader leaves every other page as it is
@@ -335,8 +365,9 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
             key = (row["student_id"], row["assignment"])
             if key not in problems and not _submitted(gb, *key):
                 problems[key] = "no submission"
-    rows = _add_problems(out, problems)
-    _by_exercise(course, out.with_name(out.stem + "_by_exercise.csv"), problems, timeout)
+    rows = _add_problems(out, problems, course)
+    _by_exercise(course, out.with_name(out.stem + "_by_exercise.csv"), problems, timeout,
+                 {row["assignment"] for row in rows})
     return rows
 
 
@@ -364,16 +395,28 @@ def _submitted(gb, student, assignment):
         return False
 
 
-def _add_problems(path, problems):
+def _add_problems(path, problems, course=None):
     rows = _read_csv(path)
     fields = list(rows[0].keys()) if rows else ["assignment", "student_id", "score", "max_score"]
-    fields.append("problem")
-    # only the assignments that were set: those someone handed in (or tried to)
+    late, due = {}, set()
+    if course is not None:
+        with _gradebook(course) as gb:
+            for assignment in gb.assignments:
+                if assignment.duedate is not None:
+                    due.add(assignment.name)
+                for sub in assignment.submissions:
+                    late[(sub.student_id, assignment.name)] = sub.total_seconds_late
+    fields += ["seconds_late", "problem"]
+    # only the assignments that were set: those with a due date, and those someone handed
+    # in (or tried to)
     handed_in = {row["assignment"] for row in rows if problems.get((row["student_id"], row["assignment"]))
                  != "no submission"} | {a for (_, a), why in problems.items() if why != "no submission"}
-    rows = [row for row in rows if row["assignment"] in handed_in]
+    rows = [row for row in rows if row["assignment"] in handed_in | due]
     for row in rows:
-        row["problem"] = problems.get((row["student_id"], row["assignment"]), "")
+        key = (row["student_id"], row["assignment"])
+        seconds = late.get(key)
+        row["seconds_late"] = f"{seconds:.0f}" if seconds else ("0" if key in late else "")
+        row["problem"] = problems.get(key, "")
     with open(path, "w", newline="", encoding="utf-8") as fh:
         writer = csv.DictWriter(fh, fieldnames=fields)
         writer.writeheader()
@@ -381,23 +424,31 @@ def _add_problems(path, problems):
     return rows
 
 
-def _by_exercise(course, path, problems, timeout):
-    """One row per student, assignment and exercise, with the reason for lost points."""
+def _by_exercise(course, path, problems, timeout, set_assignments=None):
+    """One row per student, assignment (of those set) and exercise, with the reason for
+    lost points."""
     from nbgrader.api import MissingEntry
     rows = []
     with _gradebook(course) as gb:
         for assignment in gb.assignments:
+            if set_assignments is not None and assignment.name not in set_assignments:
+                continue
             for notebook in assignment.notebooks:
                 for cell in notebook.grade_cells:
                     for student in gb.students:
                         key = (student.id, assignment.name)
                         note = problems.get(key, "")
+                        manual = False
                         try:            # this run's grade, or an earlier run's still in the book
                             g = gb.find_grade(cell.name, notebook.name, assignment.name, student.id)
-                            score = float(g.score)
+                            manual = g.score is None and g.needs_manual_grade
+                            score = None if g.score is None else float(g.score)
                         except MissingEntry:
                             score = None
-                        if score is None:
+                        if manual:      # a written part: formgrader's, by hand
+                            score, reason = 0.0, "; ".join(filter(None, [note, "to be graded by hand "
+                                                                          "(formgrader)"]))
+                        elif score is None:
                             score, reason = 0.0, note or "no submission"
                         elif score < float(cell.max_score):
                             why = _reason_from_notebook(course, key, notebook.name, cell.name, timeout)
@@ -446,9 +497,12 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=BUILD / "grades.csv")
     parser.add_argument("--jobs", type=int, default=1,
                         help="notebooks graded at once, each in its own kernel (default 1)")
+    parser.add_argument("--force", action="store_true",
+                        help="grade again submissions that have not changed since they were graded "
+                             "(their hand grades are lost)")
     args = parser.parse_args(argv)
     rows = grade(args.submitted, args.course, args.timeout, args.notebook_timeout, args.out,
-                 jobs_at_once=args.jobs)
+                 jobs_at_once=args.jobs, force=args.force)
     for row in rows:
         note = f"  ({row['problem']})" if row["problem"] else ""
         print(f"{row['student_id']:>16}  {row['assignment']:<32} {float(row['score']):6.1f} / "

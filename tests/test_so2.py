@@ -113,3 +113,14 @@ def test_exp_of_j_theta_is_the_rotation():
         assert np.abs(so2.from_complex(np.exp(1j * th)) - so2.exp(th)).max() <= 2 * EPS
         assert np.isclose(so2.to_complex(so2.exp(th)), np.exp(1j * th), rtol=0, atol=2 * EPS)
     assert np.array_equal(so2.from_complex(1j), so2.J)
+
+
+def test_log_keeps_the_doubles_minus_pi_to_pi_with_a_faithful_atan2(monkeypatch):
+    """A C library whose atan2 is faithful but not correctly rounded may answer the half-turn
+    with the double just below -np.pi, or the double just above np.pi: so2.log still
+    returns np.pi, in the interval (-np.pi, np.pi] that it promises."""
+    import so3lib.so2 as so2_module
+    half_turn = np.array([[-1.0, 0.0], [-0.0, -1.0]])
+    for outside in (np.nextafter(-np.pi, -4.0), np.nextafter(np.pi, 4.0)):
+        monkeypatch.setattr(so2_module.np, "arctan2", lambda s, c, v=outside: np.full(np.shape(s), v))
+        assert so2_module.log(half_turn) == np.pi

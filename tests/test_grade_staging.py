@@ -54,3 +54,20 @@ def test_the_right_name_is_not_a_problem(course, tmp_path):
     shutil.rmtree(course / "submitted", ignore_errors=True)
     jobs, problems = grade._stage(submitted, course, {NAME}, log=lambda *a: None)
     assert jobs == [("s1", NAME)] and not problems
+
+
+def test_grading_skips_only_figures_nothing_later_reads():
+    """A hide-input cell as handed out is not run when grading, unless a later cell reads a
+    name it binds; a learner's own cell, or an edited figure, always runs."""
+    from nbformat.v4 import new_code_cell
+
+    from tools.trusted_grader import figure_cells
+    figure = {"tags": ["hide-input"]}
+    cells = [new_code_cell("import numpy as np"),
+             new_code_cell("fig, ax = plt.subplots()\nax.plot([1, 2])", metadata=figure),
+             new_code_cell("xs = np.linspace(0, 1)\nfig, ax = plt.subplots()", metadata=figure),
+             new_code_cell("fig, ax = plt.subplots()\nax.plot(xs)", metadata=figure),
+             new_code_cell("ys = 2 * xs\nfig, ax = plt.subplots()", metadata=figure),
+             new_code_cell("def f():\n    return ys")]
+    handed_out = {c.source for c in cells[1:5]} - {cells[4].source}
+    assert figure_cells(cells, handed_out) == {1, 3}

@@ -27,6 +27,7 @@ NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sani
 help:
 	@echo "make lab      open the course in JupyterLab (sets up .venv the first time)"
 	@echo "make test     run every test: library, notebooks (strict nbval, then make test-portable), editions, browser"
+	@echo "              (FRESH=1: also redo the edition checks that passed before on the same files)"
 	@echo "make test-lib          only the library and checker tests (fast)"
 	@echo "make test-notebooks    only the notebooks, under strict nbval"
 	@echo "make test-portable     strict nbval again with other BLAS kernels and without AVX2/AVX-512 loops"
@@ -72,8 +73,10 @@ lab: $(STAMP)
 # poppler-utils, fonts): each missing one is named with its Debian package; the tests that
 # need it are skipped, or under CI the run stops. Then lint, every test with the notebooks
 # under strict nbval, and the notebooks again under other processors' arithmetic.
+# FRESH=1: redo the slow edition checks that passed before on the same files (the student
+# edition's notebooks, the Binder image: tests/pass_record.py); a fresh clone does anyway.
 test: check-test-system $(STAMP) lint
-	$(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) tests $(NOTEBOOKS)
+	$(if $(FRESH),TEST_FRESH=1) $(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) tests $(NOTEBOOKS)
 	@$(MAKE) --no-print-directory test-portable
 
 check-test-system:
@@ -83,7 +86,8 @@ check-test-system:
 # edition) and the browser: seconds rather than minutes.
 # Nor the two tests that set up what a newcomer gets, each most of a minute: a Binder
 # image's environment in a fresh venv, and `make lab` itself.
-EDITION_TESTS = test_browser test_interactive test_slides test_book test_assignments test_student_edition \
+EDITION_TESTS = test_browser test_interactive test_slides test_book test_book_laptop test_book_phone test_book_pdf \
+                test_assignments test_student_edition \
                 test_grading_sandbox
 SLOW_TESTS = tests/test_binder.py::test_binder_image_runs_a_notebook_from_another_folder \
              tests/test_newcomer.py::test_make_lab_is_a_learners_lab
@@ -121,7 +125,8 @@ test-portable: $(STAMP)
 
 # Only the tests that drive Chromium: decks, handouts, book and JupyterLab.
 test-browser: $(STAMP)
-	$(BIN)/python -m pytest -n 2 --dist loadfile tests/test_browser.py tests/test_slides.py tests/test_book.py
+	$(BIN)/python -m pytest -n 2 --dist loadfile tests/test_browser.py tests/test_slides.py tests/test_book.py \
+	    tests/test_book_laptop.py tests/test_book_phone.py tests/test_book_pdf.py
 
 # Timing metadata is dropped and consecutive prints merged into one output, so that
 # re-executing an unchanged notebook leaves its file unchanged. NB=PATH runs that notebook

@@ -31,7 +31,8 @@ EPS = np.finfo(float).eps
 # tests run, and where a file's tests run together, is unchanged.
 
 DURATIONS = Path(__file__).resolve().parent.parent / "build" / "test-durations.json"
-FIRST_GUESS = {"test_book.py": 120, "test_assignments.py": 90, "test_slides.py": 90,
+FIRST_GUESS = {"test_book_laptop.py": 130, "test_book_pdf.py": 120, "test_book_phone.py": 70,
+               "test_book.py": 60, "test_assignments.py": 90, "test_slides.py": 90,
                "test_student_edition.py": 60, "test_binder.py": 60, "test_grading_sandbox.py": 40,
                "test_newcomer.py": 30, "test_browser.py": 30, "test_interactive.py": 30}
 _spent = {}
@@ -102,3 +103,17 @@ def browser():
 def rng():
     """One seeded generator per test: the same numbers on every run."""
     return np.random.default_rng(20261121)
+
+
+@pytest.fixture(scope="session")
+def pages():
+    """The built book's pages, index.html first (tests/book_support.py)."""
+    from book_support import built
+    return built()[0]
+
+
+@pytest.fixture(scope="session")
+def soups(pages):
+    """Each built page's parsed HTML, by file name."""
+    from book_support import built
+    return built()[1]

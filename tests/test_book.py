@@ -1,81 +1,28 @@
-"""The course book (tools/book.py, Jupyter Book 1) and its PDF.
+"""The course book (tools/book.py, Jupyter Book 1): what its build writes.
 
 The book is built once per session into build/book/ (Sphinx rebuilds only changed pages,
-and does not run when no input changed); the PDF once into build/course.pdf (reprinted
-only when the book changed). The build's own checks read the HTML: a page per notebook,
+and does not run when no input changed). These tests read the HTML: a page per notebook,
 no speaker notes or grading asserts, solutions and figure code collapsed, alt text carried
-over, launch buttons and download, every local link and every loaded file present. Then Chromium, with every request outside
-file:// blocked, opens every page once at a laptop size and once at a phone size: maths
-typeset, code boxes that scroll rather than cut, no serious or critical axe-core finding
-(light and dark), and on a phone the text first; on the pages of notebooks 01 to 05 each
-figure a learner turns turns when dragged; the search finds "Rodrigues"; a plain static
-server serves the book without a request elsewhere.
+over, launch buttons and download, licence, every local link and every loaded file
+present. In Chromium, offline: the search finds sections with an excerpt, and a plain
+static server serves the book without a request elsewhere. The pages in Chromium at a
+laptop's and a phone's size are tests/test_book_laptop.py and test_book_phone.py; the PDF
+is test_book_pdf.py. tests/conftest.py gives the fixtures `pages` and `soups`
+(tests/book_support.py).
 """
 
 import functools
 import http.server
-import os
 import re
-import shutil
-import subprocess
 import threading
 from urllib.parse import unquote, urlsplit
 
 import pytest
-from bs4 import BeautifulSoup
+from book_support import MATHJAX_READY, built, words
+from browser_support import ROOT, Offline, screenshot
 
-from browser_support import (
-    MATHJAX_ERRORS,
-    ROOT,
-    SCREENSHOTS,
-    Offline,
-    drag_turns,
-    eye_moved,
-    screenshot,
-    screenshot_to,
-)
-from tools import book, vendor
+from tools import book
 from tools.common import course_notebooks, read
-
-LAPTOP = {"width": 1366, "height": 768}
-PHONE = {"width": 390, "height": 844}
-MATHJAX_READY = "window.MathJax && MathJax.startup && MathJax.startup.promise"
-
-
-def _skip_or_fail(why):
-    if os.environ.get("CI"):
-        pytest.fail(why)
-    pytest.skip(why)
-
-
-_BUILT = {}
-
-
-@pytest.fixture(scope="session")
-def pages():
-    """The built book: index.html, then one page per notebook in course order. The pages
-    and the notebook copies they were built from are read at once, in case someone else
-    rebuilds the book while the tests run."""
-    try:
-        built = book.build(ROOT / "build" / "book")
-    except SystemExit as e:  # npm missing or the registry unreachable
-        _skip_or_fail(str(e))
-    _BUILT["soups"] = {p.name: BeautifulSoup(p.read_text(encoding="utf-8"), "html.parser") for p in built}
-    _BUILT["sources"] = {p.name: read(book.SOURCE / p.name) for p in course_notebooks(book.SOURCE)}
-    return built
-
-
-@pytest.fixture(scope="session")
-def soups(pages):
-    return _BUILT["soups"]
-
-
-def _words(element):
-    """The words (3 letters or more) of an element's text, formulas left out."""
-    copy = BeautifulSoup(str(element), "html.parser")
-    for math in copy.select(".math"):
-        math.decompose()
-    return " ".join(re.findall(r"[A-Za-z]{3,}", copy.get_text(" ")))
 
 
 def _fingerprint(source, n=8):
@@ -124,7 +71,7 @@ def test_book_has_a_page_per_notebook(pages):
 def test_no_speaker_notes_or_hidden_tests(pages, soups):
     leaked = []
     for nb_path in course_notebooks():
-        text = _words(soups[f"{nb_path.stem}.html"].select_one("article"))
+        text = words(soups[f"{nb_path.stem}.html"].select_one("article"))
         for i, cell in enumerate(read(nb_path).cells):
             if book.is_speaker_note(cell) or book.is_hidden_test(cell):
                 probe = _fingerprint(cell.source)
@@ -135,7 +82,7 @@ def test_no_speaker_notes_or_hidden_tests(pages, soups):
 
 def _built_from(nb_path):
     """The learner's copy the book was built from (the notebook itself may have moved on)."""
-    return _BUILT["sources"][nb_path.name]
+    return built()[2][nb_path.name]
 
 
 def test_solutions_are_collapsed_and_figure_code_folded(pages, soups):
@@ -143,7 +90,7 @@ def test_solutions_are_collapsed_and_figure_code_folded(pages, soups):
     for nb_path in course_notebooks():
         soup = soups[f"{nb_path.stem}.html"]
         nb = _built_from(nb_path)
-        blocks = [_words(d) for d in soup.select("details.course-solution")]
+        blocks = [words(d) for d in soup.select("details.course-solution")]
         for i, cell in enumerate(nb.cells):
             if book.is_solution(cell) and not book.is_hidden_test(cell):
                 probe = _fingerprint(cell.source, 6)
@@ -214,7 +161,7 @@ def test_without_a_repository_no_launch_or_repository_button(pages, soups):
             found.append(f"{page.name}: a launch or repository button")
         if PLACEHOLDERS.search(str(soup)):
             found.append(f"{page.name}: a placeholder URL ({PLACEHOLDERS.search(str(soup)).group(0)})")
-        if "rocket" in _words(soup.select_one("article")).lower() and page.name == "index.html":
+        if "rocket" in words(soup.select_one("article")).lower() and page.name == "index.html":
             found.append("index.html promises a rocket button")
     assert not found, "\n".join(found)
 
@@ -306,241 +253,6 @@ def test_every_link_in_the_book_resolves(pages, soups):
     assert not broken, "\n".join(broken)
 
 
-# ---------------------------------------------------------------------------------------
-# In Chromium, offline
-
-
-# What a reader would have to scroll sideways: a code or output block wider than its box
-# (they wrap: none may scroll), a display formula wider than its column (formulas are set
-# smaller until they fit, course.js), a table wider than the screen with no scroll of its
-# own, or the page itself wider than the screen. Collapsed blocks are skipped.
-CUT_OFF = """() => {
-  const cut = [];
-  const shown = el => !el.closest('details:not([open])') && el.getClientRects().length > 0;
-  const text = el => (el.textContent || '').trim().replace(/\\s+/g, ' ').slice(0, 60);
-  for (const el of document.querySelectorAll('article pre')) {
-    if (!shown(el)) continue;
-    const r = el.getBoundingClientRect();
-    if (el.scrollWidth > el.clientWidth + 1 || r.right > innerWidth + 1)
-      cut.push('code or output scrolls sideways: ' + text(el));
-  }
-  for (const el of document.querySelectorAll('article mjx-container[display="true"]')) {
-    if (!shown(el)) continue;
-    const avail = el.parentElement.clientWidth;
-    if (Math.max(el.scrollWidth, el.offsetWidth) > avail + 1)
-      cut.push('formula wider than its column: ' + text(el));
-  }
-  for (const t of document.querySelectorAll('article table')) {
-    if (!shown(t)) continue;
-    let box = t.parentElement, scrolls = false;
-    for (; box && box !== document.body; box = box.parentElement)
-      if (['auto', 'scroll'].includes(getComputedStyle(box).overflowX) && box.clientWidth <= innerWidth) {
-        scrolls = true; break;
-      }
-    if (t.getBoundingClientRect().width > innerWidth + 1 && !scrolls)
-      cut.push('table wider than the screen: ' + text(t));
-  }
-  if (document.documentElement.scrollWidth > innerWidth + 1) cut.push('the page scrolls sideways');
-  return cut;
-}"""
-
-# On a phone, each 3-D figure: a swipe over it scrolls the page (the shield, course.js), its
-# title lies inside it, and no toolbar or "Back to top" button sits on it.
-PHONE_FIGURES = """() => [...document.querySelectorAll('.plotly-graph-div')].map(fig => {
-  const r = fig.getBoundingClientRect();
-  const cover = fig.parentElement.querySelector(':scope > .course-figure-shield');
-  const turn = cover && cover.querySelector('button');
-  const title = fig.querySelector('.gtitle');
-  const t = title ? title.getBoundingClientRect() : null;
-  const bar = fig.querySelector('.modebar-container');
-  const top = document.querySelector('#pst-back-to-top');
-  return {id: fig.id,
-          shield: !!cover && !cover.hidden && cover.getBoundingClientRect().height > r.height / 2,
-          turn: !!turn && turn.textContent.includes('Turn'),
-          titleInside: !t || (t.left >= r.left - 1 && t.right <= r.right + 1),
-          toolbar: !!bar && getComputedStyle(bar).display !== 'none',
-          backToTop: !!top && getComputedStyle(top).display !== 'none'};
-})"""
-
-# At a phone width, the first thing on the screen is the page's text, not the contents.
-TEXT_FIRST = """() => {
-  const h = document.querySelector('article h1');
-  const nav = document.querySelector('#pst-primary-sidebar');
-  const navShown = nav && nav.getBoundingClientRect().width > 0
-                   && nav.getBoundingClientRect().left >= 0 && getComputedStyle(nav).visibility !== 'hidden';
-  return {headingTop: h ? h.getBoundingClientRect().top : null, navShown};
-}"""
-
-
-# On a laptop, half way down a chapter, its contents ("Contents" beside the text) are in view.
-TOC_IN_VIEW = """() => {
-  window.scrollTo(0, document.documentElement.scrollHeight / 2);
-  const toc = document.querySelector('.bd-sidebar-secondary');
-  const r = toc ? toc.getBoundingClientRect() : null;
-  const links = toc ? toc.querySelectorAll('a').length : 0;
-  const shown = !!r && r.width > 100 && r.top < innerHeight / 2 && r.bottom > innerHeight / 2
-                && getComputedStyle(toc).visibility !== 'hidden';
-  window.scrollTo(0, 0);
-  return {shown, links};
-}"""
-
-
-class _Offline(Offline):
-    """browser_support.Offline at a chosen window size and colour scheme."""
-
-    def __init__(self, browser, viewport=LAPTOP, color_scheme="light",
-                 allowed=("file:", "data:", "about:", "blob:")):
-        self.allowed = tuple(allowed)
-        self.blocked, self.failed, self.errors = [], [], []
-        self.context = browser.new_context(viewport=viewport, color_scheme=color_scheme)
-        self.context.route("**/*", self._route)
-        self.context.on("page", self.watch)
-
-
-def _axe_path():
-    return vendor.install(ROOT / "build" / "book-test", ["axe-core"]) / "axe-core" / "axe.min.js"
-
-
-def _axe(page, axe):
-    page.add_script_tag(path=str(axe))
-    result = page.evaluate("axe.run(document, {resultTypes: ['violations'], preload: false})")
-    return [f"{v['impact']} {v['id']}: {v['help']} ({len(v['nodes'])}x, e.g. {v['nodes'][0]['target']})"
-            for v in result["violations"] if v["impact"] in ("serious", "critical")]
-
-
-def _open(page, path):
-    page.goto(path.as_uri())
-    page.wait_for_function(MATHJAX_READY)
-    page.evaluate("MathJax.startup.promise")
-    page.wait_for_function("document.documentElement.dataset.courseFitted === '1'")
-
-
-# the pages of notebooks 01 to 05 each have a figure the learner turns (so3lib.plot.show_3d)
-TURNABLE = [p for p in course_notebooks() if p.name[:2] in {"01", "02", "03", "04", "05"}]
-
-
-def _turn_figures(page, path):
-    """Drag each figure a learner turns on PAGE: {figure id: how far the camera's eye
-    moved}; a screenshot of each to build/screenshots/interactive/book-NAME/."""
-    page.bring_to_front()
-    turned = {}
-    for i in page.evaluate("() => [...document.querySelectorAll('.plotly-graph-div')].map(g => g.id)"):
-        before, after = drag_turns(page, f"#{i}")
-        turned[i] = eye_moved(before, after)
-        screenshot_to(page, SCREENSHOTS / "interactive" / f"book-{path.stem}" / f"{i}.png")
-    return turned
-
-
-@pytest.fixture(scope="session")
-def visits(browser, pages):
-    """Every page opened once at a laptop size and once at a phone size (light, then dark
-    for axe), with every request outside file:// blocked: what each check needs. On the
-    laptop in light, once a page of notebooks 01 to 05 is measured, each figure a learner
-    turns on it is dragged (test_figures_turn_with_the_mouse)."""
-    axe = _axe_path()
-    turnable = {f"{p.stem}.html" for p in TURNABLE}
-    found = {}
-    for size_name, size in (("laptop", LAPTOP), ("phone", PHONE)):
-        for scheme in ("light", "dark"):
-            if size_name == "phone" and scheme == "dark":
-                continue
-            offline = _Offline(browser, viewport=size, color_scheme=scheme)
-            page = offline.new_page()
-            page.set_default_timeout(60_000)
-            for path in pages:
-                _open(page, path)
-                seen = found.setdefault(path.name, {})
-                key = f"{size_name}-{scheme}"
-                seen[key] = {
-                    "typeset": page.locator("mjx-container").count(),
-                    "errors": page.locator(MATHJAX_ERRORS).count(),
-                    "cut": page.evaluate(CUT_OFF),
-                    "layout": page.evaluate(TEXT_FIRST),
-                    "axe": _axe(page, axe) if size_name == "laptop" else [],
-                }
-                if key == "laptop-light" and path != pages[0]:
-                    seen[key]["toc"] = page.evaluate(TOC_IN_VIEW)
-                if size_name == "phone":
-                    page.wait_for_function("""() => [...document.querySelectorAll('.plotly-graph-div')]
-                        .every(f => f._fullLayout)""")
-                    page.wait_for_timeout(300)  # the titles are refitted once drawn
-                    seen[key]["figures"] = page.evaluate(PHONE_FIGURES)
-                if path in (pages[0], pages[2]) and scheme == "light":
-                    screenshot(page, f"book_{path.stem}_{size_name}")
-                if key == "laptop-light" and path.name in turnable:
-                    seen[key]["turned"] = _turn_figures(page, path)
-                    seen[key]["plotly"] = page.evaluate("() => !!window.Plotly")
-            found.setdefault("_problems", []).append(offline.problems())
-            offline.close()
-    return found
-
-
-@pytest.mark.browser
-def test_every_page_reads_offline_with_its_maths_typeset(visits, pages):
-    assert not any(visits["_problems"]), "\n".join(visits["_problems"])
-    for path in pages:
-        seen = visits[path.name]["laptop-light"]
-        assert seen["typeset"] > 0, f"{path.name}: no formula typeset"
-        assert seen["errors"] == 0, f"{path.name}: {seen['errors']} formulas failed to typeset"
-
-
-@pytest.mark.browser
-def test_nothing_needs_sideways_scrolling_on_a_laptop_or_a_phone(visits, pages):
-    cut = [f"{path.name} at {key}: {c}" for path in pages
-           for key, seen in visits[path.name].items() for c in seen["cut"]]
-    assert not cut, "\n".join(cut)
-
-
-@pytest.mark.browser
-def test_on_a_phone_3d_figures_let_the_page_scroll_and_show_their_title(visits, pages):
-    problems = []
-    for path in pages:
-        for fig in visits[path.name]["phone-light"].get("figures", []):
-            if not (fig["shield"] and fig["turn"]):
-                problems.append(f"{path.name} #{fig['id']}: a swipe over it does not scroll the page")
-            if not fig["titleInside"]:
-                problems.append(f"{path.name} #{fig['id']}: its title is cut off")
-            if fig["toolbar"] or fig["backToTop"]:
-                problems.append(f"{path.name} #{fig['id']}: a toolbar or 'Back to top' covers it")
-    assert not problems, "\n".join(problems)
-
-
-@pytest.mark.browser
-def test_on_a_laptop_a_chapter_keeps_its_contents_in_view(visits, pages):
-    for path in pages[1:]:
-        toc = visits[path.name]["laptop-light"]["toc"]
-        assert toc["shown"] and toc["links"] >= 3, f"{path.name}: no contents in view half way down"
-
-
-@pytest.mark.browser
-def test_axe_finds_nothing_serious(visits, pages):
-    found = [f"{path.name} ({key}): {v}" for path in pages
-             for key, seen in visits[path.name].items() for v in seen["axe"]]
-    assert not found, "\n".join(found)
-
-
-@pytest.mark.browser
-def test_on_a_phone_the_text_comes_first(visits, pages):
-    for path in pages:
-        layout = visits[path.name]["phone-light"]["layout"]
-        assert not layout["navShown"], f"{path.name}: the contents cover the text on a phone"
-        assert layout["headingTop"] is not None and layout["headingTop"] < PHONE["height"] / 3, \
-            f"{path.name}: the title starts {layout['headingTop']} px down"
-
-
-@pytest.mark.browser
-@pytest.mark.parametrize("path", TURNABLE, ids=lambda p: p.stem)
-def test_figures_turn_with_the_mouse(visits, path):
-    """Each figure a learner turns draws on the page (with the book's one plotly.js) and
-    turns when dragged; screenshots to build/screenshots/interactive/book-NAME/."""
-    seen = visits[f"{path.stem}.html"]["laptop-light"]
-    assert seen["turned"], f"{path.stem}.html: no plotly figure on the page"
-    for i, moved in seen["turned"].items():
-        assert moved > 0.05, f"{path.stem}.html #{i}: dragging did not turn it"
-    assert seen["plotly"], f"{path.stem}.html: plotly.js is not loaded"
-    assert not any(visits["_problems"]), "\n".join(visits["_problems"])
-
-
 SEARCH_RESULTS = """() => [...document.querySelectorAll('#search-results ul.search li')].map(li => {
   const a = li.querySelector('a');
   return {href: a ? a.getAttribute('href') : '', title: a ? a.textContent : '', excerpt: (li.querySelector('p.context') || {}).textContent || '',
@@ -606,51 +318,3 @@ def test_a_plain_static_server_serves_it_with_no_other_request(browser, pages):
     finally:
         offline.close()
         server.shutdown()
-
-
-# ---------------------------------------------------------------------------------------
-# The PDF
-
-
-@pytest.fixture(scope="session")
-def pdf(browser, pages):
-    if not shutil.which("pdftotext"):
-        _skip_or_fail("pdftotext (poppler-utils) is needed to read the PDF")
-    return book.build_pdf(browser=browser)
-
-
-@pytest.mark.browser
-def test_the_pdf_holds_the_whole_course(pdf):
-    assert pdf.is_file() and pdf.stat().st_size > 100_000
-    published = book.OUT / "course.pdf"
-    assert published.is_file() and published.read_bytes() == pdf.read_bytes(), \
-        "the download menus link build/book/course.pdf, which is not the printed PDF"
-    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
-                          text=True, check=True).stdout
-    assert "Rodrigues" in text
-    assert "Contents" in text
-    for nb_path in course_notebooks():
-        title = book.label(read(nb_path), nb_path)
-        assert re.sub(r"\W+", "", title)[:20] in re.sub(r"\W+", "", text), f"{title} not in the PDF"
-    assert "code cell source" not in text, "a figure's folded code printed as a stray line"
-    assert "\\frac" not in text and "\\begin{" not in text, "maths printed as TeX source"
-    assert text.count("\f") > 50, "fewer pages than the course has"
-
-
-@pytest.mark.browser
-def test_the_pdf_is_made_for_paper(pdf):
-    """No instruction for a screen, no figure controls, no "Next:" links; the solutions are
-    gathered at the end of each chapter, each exercise pointing to its page."""
-    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
-                          text=True, check=True).stdout
-    flat = re.sub(r"\s+", " ", text)
-    for word in ("button", "Drag", "drag to", "slider", "Next:", "Show solution", "▶ play", "pause"):
-        found = [m.start() for m in re.finditer(r"\b" + re.escape(word), flat)]  # not time_slider
-        assert not found, f"the PDF says {word!r}: ...{flat[max(0, found[0] - 80):found[0] + 80]}..."
-    refs = re.findall(r"Solution: in “Solutions” at the end of this chapter, page (\d+)", flat)
-    assert refs, "no exercise points to its solution"
-    assert len(refs) == flat.count("Solution: in “Solutions”"), "an exercise's solution has no page"
-    pages = text.split("\f")
-    for n in refs:
-        assert "Solution to" in pages[int(n) - 1], f"page {n} holds no solution"
-    assert "Solutions:" in flat

@@ -24,7 +24,9 @@ Usage: python -m tools.book [--pdf] [--repository-url URL] [--jupyterhub-url URL
 """
 
 import argparse
+import contextlib
 import copy
+import fcntl
 import os
 import re
 import shutil
@@ -41,7 +43,10 @@ from tools.common import BUILD, NOTEBOOKS, Stamps, course_notebooks, label, read
 BOOK_TITLE = "The exponential and logarithm of SO(3)"
 SOURCE = BUILD / "book-src"
 OUT = BUILD / "book"
-PRINT_OUT = BUILD / "book-print"
+# The one-page book the PDF is printed from. In a folder of its own: myst-nb writes its
+# files next to the output folder (OUT's parent/jupyter_execute), so the web build and this
+# one can run at the same time (two test workers) without writing the same files.
+PRINT_OUT = BUILD / "book-print" / "site"
 PDF = BUILD / "course.pdf"
 DOCTREES = BUILD / "book-doctrees"
 STATIC = Path(__file__).resolve().parent / "book_static"
@@ -570,8 +575,9 @@ def prepare(src=SOURCE, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB
         svg.unlink()
     if plotly:
         _write_if_changed(static / "vendor" / "plotly.min.js", plotly.read_bytes())
-    if (NOTEBOOKS / "images").is_dir():
-        shutil.copytree(NOTEBOOKS / "images", src / "images", dirs_exist_ok=True)
+    for f in sorted((NOTEBOOKS / "images").rglob("*")) if (NOTEBOOKS / "images").is_dir() else []:
+        if f.is_file():
+            _write_if_changed(src / "images" / f.relative_to(NOTEBOOKS / "images"), f.read_bytes())
     config = book_config(repository_url, jupyterhub_url)
     _write_if_changed(src / "_config.yml", yaml.safe_dump(config, sort_keys=False))
     _write_if_changed(src / "_toc.yml", yaml.safe_dump(book_toc(paths), sort_keys=False))
@@ -605,6 +611,19 @@ def inputs_key(src=SOURCE):
         digest.update(f"\0notebooks/{nb.name}\0".encode())
         digest.update(nb.read_bytes())
     return digest.hexdigest()
+
+
+@contextlib.contextmanager
+def _locked(name):
+    """Hold BUILD/.NAME.lock: two builds at once (`make book` and `make pdf`, or two test
+    workers) take turns at what they share; the second then finds the work done."""
+    BUILD.mkdir(parents=True, exist_ok=True)
+    with open(BUILD / f".{name}.lock", "w") as f:
+        fcntl.flock(f, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(f, fcntl.LOCK_UN)
 
 
 def _built(out, builder, key):
@@ -877,14 +896,16 @@ def build(out=OUT, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL)
     """Build the web site into OUT; returns its pages, index.html first, then one per
     notebook. Sphinx and the HTML pass run only when an input changed since the last build
     into OUT (inputs_key)."""
-    paths = prepare(SOURCE, repository_url, jupyterhub_url)
+    with _locked("book-src"):
+        paths = prepare(SOURCE, repository_url, jupyterhub_url)
+        key = inputs_key(SOURCE)
     pages = [Path(out) / "index.html"] + [Path(out) / f"{p.stem}.html" for p in paths]
-    key = inputs_key(SOURCE)
-    if not (_built(out, "html", key) and all(p.is_file() for p in pages)):
-        sphinx(SOURCE, out, "html")
-        postprocess(out, repository_url)
-        _record_built(out, "html", key)
-    publish_pdf(out)
+    with _locked("book-html"):
+        if not (_built(out, "html", key) and all(p.is_file() for p in pages)):
+            sphinx(SOURCE, out, "html")
+            postprocess(out, repository_url)
+            _record_built(out, "html", key)
+        publish_pdf(out)
     return pages
 
 
@@ -913,6 +934,20 @@ PRINT_PREPARE = r"""(numbers) => {
   const article = document.querySelector('.bd-article') || document.body;
   if (!document.body.dataset.coursePaper) {
     document.body.dataset.coursePaper = '1';
+    // a heading that invites the reader to turn a figure ("Turn it: the box spinning")
+    // names the figure on paper ("The box spinning"), in the contents list too
+    for (const h of article.querySelectorAll('h1, h2, h3, h4')) {
+      const w = document.createTreeWalker(h, NodeFilter.SHOW_TEXT);
+      while (w.nextNode()) {
+        const t = w.currentNode;
+        if (!t.nodeValue.trim()) continue;
+        if (/^\s*Turn it:\s*/.test(t.nodeValue)) {
+          const rest = t.nodeValue.replace(/^\s*Turn it:\s*/, '');
+          t.nodeValue = rest.charAt(0).toUpperCase() + rest.slice(1);
+        }
+        break;
+      }
+    }
     const starts = [...document.querySelectorAll('span[id^="document-"]')]
       .filter(s => s.nextElementSibling && s.nextElementSibling.tagName === 'SECTION');
     starts.forEach(s => s.nextElementSibling.classList.add('course-chapter'));
@@ -1069,7 +1104,7 @@ PRINT_CSS = """
 /* a code box or an output stays on one page when it fits; a heading stays with its text */
 .bd-article div.highlight, .bd-article .cell_output .output, .bd-article div.math,
 .bd-article table { break-inside: avoid; }
-.bd-article h1, .bd-article h2, .bd-article h3, .bd-article h4 { break-after: avoid; }
+.bd-article h1, .bd-article h2, .bd-article h3, .bd-article h4 { break-after: avoid; break-inside: avoid; }
 #jb-print-docs-body #print-main-content { display: none !important; }  /* ours is below */
 /* the figures' play buttons, slider and toolbar do nothing on paper */
 .js-plotly-plot .updatemenu-container, .js-plotly-plot .slider-container,
@@ -1200,17 +1235,20 @@ def build_pdf(pdf=PDF, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_
     """The whole course as one PDF: the book built as one page, printed by Chromium. The
     one-page book is rebuilt only when an input changed (Sphinx's singlehtml builder
     rewrites the whole page every time), and printed only when the page changed."""
-    prepare(SOURCE, repository_url, jupyterhub_url)
-    key = inputs_key(SOURCE)
-    if not _built(PRINT_OUT, "singlehtml", key):
-        sphinx(SOURCE, PRINT_OUT, "singlehtml")
-        postprocess(PRINT_OUT, repository_url)
-        _record_built(PRINT_OUT, "singlehtml", key)
+    with _locked("book-src"):
+        prepare(SOURCE, repository_url, jupyterhub_url)
+        key = inputs_key(SOURCE)
     from tools import check_system
     # the contents list's page numbers and the solutions' page references come from pdftotext
     check_system.require(["pdftotext"] + ([] if browser else ["chromium"]), "the course's PDF")
-    printed = print_pdf(PRINT_OUT, pdf, browser)
-    publish_pdf(OUT, printed)
+    with _locked("book-pdf"):
+        if not _built(PRINT_OUT, "singlehtml", key):
+            sphinx(SOURCE, PRINT_OUT, "singlehtml")
+            postprocess(PRINT_OUT, repository_url)
+            _record_built(PRINT_OUT, "singlehtml", key)
+        printed = print_pdf(PRINT_OUT, pdf, browser)
+    with _locked("book-html"):
+        publish_pdf(OUT, printed)
     return printed
 
 

@@ -1,0 +1,183 @@
+"""What the book's tests share: the built book (once per test process, the build itself
+once per machine: tools/book.py takes a lock, so a second worker waits and finds it
+built), Chromium at a laptop's and a phone's size with every request outside file://
+blocked, and the measures taken in a page.
+"""
+
+import os
+import re
+
+import pytest
+from bs4 import BeautifulSoup
+
+from browser_support import (
+    ROOT,
+    SCREENSHOTS,
+    Offline,
+    drag_turns,
+    eye_moved,
+    screenshot_to,
+)
+from tools import book, vendor
+from tools.common import course_notebooks, read
+
+LAPTOP = {"width": 1366, "height": 768}
+PHONE = {"width": 390, "height": 844}
+MATHJAX_READY = "window.MathJax && MathJax.startup && MathJax.startup.promise"
+# the pages of notebooks 01 to 05 each have a figure the learner turns (so3lib.plot.show_3d)
+TURNABLE = [p for p in course_notebooks() if p.name[:2] in {"01", "02", "03", "04", "05"}]
+
+
+def skip_or_fail(why):
+    if os.environ.get("CI"):
+        pytest.fail(why)
+    pytest.skip(why)
+
+
+_BUILT = {}
+
+
+def built():
+    """(pages, soups, sources): the built book's pages, index.html first, then one per
+    notebook in course order; their parsed HTML by name; and the notebook copies they were
+    built from. Read at once, in case someone else rebuilds the book while the tests run."""
+    if "pages" not in _BUILT:
+        try:
+            pages = book.build(ROOT / "build" / "book")
+        except SystemExit as e:  # npm missing or the registry unreachable
+            skip_or_fail(str(e))
+        _BUILT["soups"] = {p.name: BeautifulSoup(p.read_text(encoding="utf-8"), "html.parser")
+                           for p in pages}
+        _BUILT["sources"] = {p.name: read(book.SOURCE / p.name) for p in course_notebooks(book.SOURCE)}
+        _BUILT["pages"] = pages
+    return _BUILT["pages"], _BUILT["soups"], _BUILT["sources"]
+
+
+# What a reader would have to scroll sideways: a code or output block wider than its box
+# (they wrap: none may scroll), a display formula wider than its column (formulas are set
+# smaller until they fit, course.js), a table wider than the screen with no scroll of its
+# own, or the page itself wider than the screen. Collapsed blocks are skipped.
+CUT_OFF = """() => {
+  const cut = [];
+  const shown = el => !el.closest('details:not([open])') && el.getClientRects().length > 0;
+  const text = el => (el.textContent || '').trim().replace(/\\s+/g, ' ').slice(0, 60);
+  for (const el of document.querySelectorAll('article pre')) {
+    if (!shown(el)) continue;
+    const r = el.getBoundingClientRect();
+    if (el.scrollWidth > el.clientWidth + 1 || r.right > innerWidth + 1)
+      cut.push('code or output scrolls sideways: ' + text(el));
+  }
+  for (const el of document.querySelectorAll('article mjx-container[display="true"]')) {
+    if (!shown(el)) continue;
+    const avail = el.parentElement.clientWidth;
+    if (Math.max(el.scrollWidth, el.offsetWidth) > avail + 1)
+      cut.push('formula wider than its column: ' + text(el));
+  }
+  for (const t of document.querySelectorAll('article table')) {
+    if (!shown(t)) continue;
+    let box = t.parentElement, scrolls = false;
+    for (; box && box !== document.body; box = box.parentElement)
+      if (['auto', 'scroll'].includes(getComputedStyle(box).overflowX) && box.clientWidth <= innerWidth) {
+        scrolls = true; break;
+      }
+    if (t.getBoundingClientRect().width > innerWidth + 1 && !scrolls)
+      cut.push('table wider than the screen: ' + text(t));
+  }
+  if (document.documentElement.scrollWidth > innerWidth + 1) cut.push('the page scrolls sideways');
+  return cut;
+}"""
+
+# On a phone, each 3-D figure: a swipe over it scrolls the page (the shield, course.js), its
+# title lies inside it, and no toolbar or "Back to top" button sits on it.
+PHONE_FIGURES = """() => [...document.querySelectorAll('.plotly-graph-div')].map(fig => {
+  const r = fig.getBoundingClientRect();
+  const cover = fig.parentElement.querySelector(':scope > .course-figure-shield');
+  const turn = cover && cover.querySelector('button');
+  const title = fig.querySelector('.gtitle');
+  const t = title ? title.getBoundingClientRect() : null;
+  const bar = fig.querySelector('.modebar-container');
+  const top = document.querySelector('#pst-back-to-top');
+  return {id: fig.id,
+          shield: !!cover && !cover.hidden && cover.getBoundingClientRect().height > r.height / 2,
+          turn: !!turn && turn.textContent.includes('Turn'),
+          titleInside: !t || (t.left >= r.left - 1 && t.right <= r.right + 1),
+          toolbar: !!bar && getComputedStyle(bar).display !== 'none',
+          backToTop: !!top && getComputedStyle(top).display !== 'none'};
+})"""
+
+# At a phone width, the first thing on the screen is the page's text, not the contents.
+TEXT_FIRST = """() => {
+  const h = document.querySelector('article h1');
+  const nav = document.querySelector('#pst-primary-sidebar');
+  const navShown = nav && nav.getBoundingClientRect().width > 0
+                   && nav.getBoundingClientRect().left >= 0 && getComputedStyle(nav).visibility !== 'hidden';
+  return {headingTop: h ? h.getBoundingClientRect().top : null, navShown};
+}"""
+
+
+# On a laptop, half way down a chapter, its contents ("Contents" beside the text) are in view.
+TOC_IN_VIEW = """() => {
+  window.scrollTo(0, document.documentElement.scrollHeight / 2);
+  const toc = document.querySelector('.bd-sidebar-secondary');
+  const r = toc ? toc.getBoundingClientRect() : null;
+  const links = toc ? toc.querySelectorAll('a').length : 0;
+  const shown = !!r && r.width > 100 && r.top < innerHeight / 2 && r.bottom > innerHeight / 2
+                && getComputedStyle(toc).visibility !== 'hidden';
+  window.scrollTo(0, 0);
+  return {shown, links};
+}"""
+
+
+class BookOffline(Offline):
+    """browser_support.Offline at a chosen window size and colour scheme."""
+
+    def __init__(self, browser, viewport=LAPTOP, color_scheme="light",
+                 allowed=("file:", "data:", "about:", "blob:")):
+        self.allowed = tuple(allowed)
+        self.blocked, self.failed, self.errors = [], [], []
+        self.context = browser.new_context(viewport=viewport, color_scheme=color_scheme)
+        self.context.route("**/*", self._route)
+        self.context.on("page", self.watch)
+
+
+def axe_path():
+    return vendor.install(ROOT / "build" / "book-test", ["axe-core"]) / "axe-core" / "axe.min.js"
+
+
+def axe(page, script, rules=None):
+    """axe-core's serious and critical findings on PAGE (every rule, or only RULES)."""
+    if not page.evaluate("() => !!window.axe"):
+        page.add_script_tag(path=str(script))
+    options = {"resultTypes": ["violations"], "preload": False}
+    if rules:
+        options["runOnly"] = {"type": "rule", "values": list(rules)}
+    result = page.evaluate("options => axe.run(document, options)", options)
+    return [f"{v['impact']} {v['id']}: {v['help']} ({len(v['nodes'])}x, e.g. {v['nodes'][0]['target']})"
+            for v in result["violations"] if v["impact"] in ("serious", "critical")]
+
+
+def open_page(page, path):
+    page.goto(path.as_uri())
+    page.wait_for_function(MATHJAX_READY)
+    page.evaluate("MathJax.startup.promise")
+    page.wait_for_function("document.documentElement.dataset.courseFitted === '1'")
+
+
+def turn_figures(page, path):
+    """Drag each figure a learner turns on PAGE: {figure id: how far the camera's eye
+    moved}; a screenshot of each to build/screenshots/interactive/book-NAME/."""
+    page.bring_to_front()
+    turned = {}
+    for i in page.evaluate("() => [...document.querySelectorAll('.plotly-graph-div')].map(g => g.id)"):
+        before, after = drag_turns(page, f"#{i}")
+        turned[i] = eye_moved(before, after)
+        screenshot_to(page, SCREENSHOTS / "interactive" / f"book-{path.stem}" / f"{i}.png")
+    return turned
+
+
+def words(element):
+    """The words (3 letters or more) of an element's text, formulas left out."""
+    copy = BeautifulSoup(str(element), "html.parser")
+    for math in copy.select(".math"):
+        math.decompose()
+    return " ".join(re.findall(r"[A-Za-z]{3,}", copy.get_text(" ")))

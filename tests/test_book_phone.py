@@ -1,0 +1,64 @@
+"""The book at a phone's size (390x844) in Chromium, with every request outside file://
+blocked: each page once. The text comes first (the contents do not cover it), nothing
+needs sideways scrolling (a wide table scrolls in its own box), and each 3-D figure lets
+a swipe scroll the page, keeps its title inside it, and has no toolbar or "Back to top"
+button over it.
+"""
+
+import pytest
+from book_support import CUT_OFF, PHONE, PHONE_FIGURES, TEXT_FIRST, BookOffline, open_page
+from browser_support import screenshot
+
+pytestmark = pytest.mark.browser
+
+
+@pytest.fixture(scope="module")
+def phone(browser, pages):
+    found = {}
+    offline = BookOffline(browser, viewport=PHONE)
+    page = offline.new_page()
+    page.set_default_timeout(60_000)
+    try:
+        for path in pages:
+            open_page(page, path)
+            page.wait_for_function("""() => [...document.querySelectorAll('.plotly-graph-div')]
+                .every(f => f._fullLayout)""")
+            page.wait_for_timeout(300)  # the titles are refitted once drawn
+            found[path.name] = {"cut": page.evaluate(CUT_OFF), "layout": page.evaluate(TEXT_FIRST),
+                                "figures": page.evaluate(PHONE_FIGURES)}
+            if path in (pages[0], pages[2]):
+                screenshot(page, f"book_{path.stem}_phone")
+        found["_problems"] = offline.problems()
+    finally:
+        offline.close()
+    return found
+
+
+def test_every_page_reads_offline(phone):
+    assert not phone["_problems"], phone["_problems"]
+
+
+def test_nothing_needs_sideways_scrolling_on_a_phone(phone, pages):
+    cut = [f"{path.name}: {c}" for path in pages for c in phone[path.name]["cut"]]
+    assert not cut, "\n".join(cut)
+
+
+def test_on_a_phone_3d_figures_let_the_page_scroll_and_show_their_title(phone, pages):
+    problems = []
+    for path in pages:
+        for fig in phone[path.name]["figures"]:
+            if not (fig["shield"] and fig["turn"]):
+                problems.append(f"{path.name} #{fig['id']}: a swipe over it does not scroll the page")
+            if not fig["titleInside"]:
+                problems.append(f"{path.name} #{fig['id']}: its title is cut off")
+            if fig["toolbar"] or fig["backToTop"]:
+                problems.append(f"{path.name} #{fig['id']}: a toolbar or 'Back to top' covers it")
+    assert not problems, "\n".join(problems)
+
+
+def test_on_a_phone_the_text_comes_first(phone, pages):
+    for path in pages:
+        layout = phone[path.name]["layout"]
+        assert not layout["navShown"], f"{path.name}: the contents cover the text on a phone"
+        assert layout["headingTop"] is not None and layout["headingTop"] < PHONE["height"] / 3, \
+            f"{path.name}: the title starts {layout['headingTop']} px down"

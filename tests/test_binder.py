@@ -7,6 +7,8 @@ git knows), then runs a notebook from another folder, as a student on a JupyterH
 persistent home hides the checkout would. The packages come from a wheelhouse in
 build/wheelhouse/, filled from PyPI the first time (pip's cache makes that quick), so the
 install itself needs no network and takes the time a real one would minus the downloads.
+Once it has passed, it is not done again until one of the files the image is made from
+changes (tests/pass_record.py; a fresh clone, and CI, always does it).
 """
 
 import json
@@ -19,6 +21,7 @@ from pathlib import Path
 
 import pytest
 from packaging.utils import canonicalize_name, parse_wheel_filename
+from pass_record import PassRecord, digest
 
 ROOT = Path(__file__).resolve().parent.parent
 BINDER = ROOT / "binder"
@@ -131,6 +134,12 @@ def test_binder_image_runs_a_notebook_from_another_folder(tmp_path):
     if sys.version_info[:2] != tuple(map(int, m.groups())):
         _skip_or_fail(f"binder/runtime.txt asks for Python {m[1]}.{m[2]}; this is "
                       f"{sys.version.split()[0]}, so the image cannot be followed here")
+    # what the image is made from: binder/, the package and its pins, the notebook it runs
+    key = digest([BINDER, ROOT / "pyproject.toml", ROOT / "environment.txt", ROOT / "so3lib",
+                  NOTEBOOK, Path(__file__)], ROOT)
+    record = PassRecord("binder-image")
+    if record.fresh("image", key):
+        return
     wheels = _wheelhouse()
     repo = _clean_checkout(tmp_path / "repo")
     before = _files(repo)
@@ -188,3 +197,4 @@ def test_binder_image_runs_a_notebook_from_another_folder(tmp_path):
               and "raises-exception" not in c.get("metadata", {}).get("tags", [])]
     assert not errors, errors[0]
     assert any(c.get("outputs") for c in ran["cells"] if c["cell_type"] == "code")
+    record.record({"image": key})

@@ -4,7 +4,8 @@ It is built once per session into a temporary folder. Every cell tagged "solutio
 "hidden-test" must be gone, with its output, and none of its text may remain anywhere in
 the edition; so must every speaker note; each exercise keeps its stub and its checker
 call; and the edition runs top to bottom under nbval in lax mode (no cell raises) with
-the checkers saying "not yet", not crashing.
+the checkers saying "not yet", not crashing (a notebook whose edition files are unchanged
+since it last ran clean is not run again: tests/pass_record.py).
 """
 
 import os
@@ -16,6 +17,7 @@ import pytest
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 
 from browser_support import ROOT
+from pass_record import PassRecord, digest
 from tools import roles, student
 from tools.common import course_notebooks, read
 
@@ -141,6 +143,30 @@ def test_the_build_never_writes_into_notebooks(tmp_path):
     assert {p: p.stat().st_mtime_ns for p in (ROOT / "notebooks").iterdir()} == before
 
 
+def _edition_key(out, notebook):
+    """A digest of what running NOTEBOOK in the edition OUT depends on: the notebook, every
+    other file of the edition except the other notebooks (so3lib, environment.txt, ...),
+    and the Python that runs it."""
+    return digest([p for p in out.rglob("*") if p.is_file()
+                   and not (p.suffix == ".ipynb" and p != notebook)], out)
+
+
+def test_edition_key_sees_the_library_and_the_notebook(tmp_path):
+    (tmp_path / "so3lib").mkdir()
+    (tmp_path / "so3lib" / "a.py").write_text("x = 1\n")
+    nb, other = tmp_path / "n.ipynb", tmp_path / "m.ipynb"
+    nb.write_text("{}")
+    other.write_text("{}")
+    key = _edition_key(tmp_path, nb)
+    other.write_text('{"changed": 1}')
+    assert _edition_key(tmp_path, nb) == key, "another notebook is not an input"
+    (tmp_path / "so3lib" / "a.py").write_text("x = 2\n")
+    assert _edition_key(tmp_path, nb) != key
+    key = _edition_key(tmp_path, nb)
+    nb.write_text('{"cells": []}')
+    assert _edition_key(tmp_path, nb) != key
+
+
 def test_the_edition_runs_under_nbval_lax(edition):
     """Each notebook that lost solution cells runs top to bottom with no error; the others
     are the course's notebooks unchanged, which strict nbval runs already."""
@@ -148,10 +174,16 @@ def test_the_edition_runs_under_nbval_lax(edition):
     changed = [notebooks[p.name] for p in NOTEBOOKS if any(student.is_solution(c) for c in read(p).cells)]
     if not changed:
         pytest.skip("no notebook has solution cells yet")
-    env = dict(os.environ, PYTHONHASHSEED="0")
-    env.pop("PYTEST_XDIST_WORKER", None)
-    run = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:xdist",
-         "--rootdir", str(out), "--nbval-lax", "--nbval-current-env", *map(str, changed)],
-        cwd=out, env=env, capture_output=True, text=True, timeout=600)
-    assert run.returncode == 0, run.stdout[-4000:] + run.stderr[-2000:]
+    # a notebook that ran clean with the same files is not run again (tests/pass_record.py)
+    record = PassRecord("student-edition")
+    keys = {nb.name: _edition_key(out, nb) for nb in changed}
+    to_run = [nb for nb in changed if not record.fresh(nb.name, keys[nb.name])]
+    if to_run:
+        env = dict(os.environ, PYTHONHASHSEED="0")
+        env.pop("PYTEST_XDIST_WORKER", None)
+        run = subprocess.run(
+            [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:xdist",
+             "--rootdir", str(out), "--nbval-lax", "--nbval-current-env", *map(str, to_run)],
+            cwd=out, env=env, capture_output=True, text=True, timeout=600)
+        assert run.returncode == 0, run.stdout[-4000:] + run.stderr[-2000:]
+    record.record({nb.name: keys[nb.name] for nb in to_run})

@@ -6,10 +6,10 @@ shown with so3lib.plot.show_3d.
   id that draws with the page's own plotly.js, and the alt text; no plotly.js and no CDN
   inside a notebook, and every notebook file under 1.5 MB.
 - In Chromium with every request outside file:// blocked: the fixture notebook
-  (tests/fixtures/10_fixture_interactive.ipynb) as a deck and as a book page: the figure
+  (tests/fixtures/10_fixture_interactive.ipynb) as a deck: the figure
   draws (WebGL), fits its slide, and a mouse drag turns it (plotly's
   _fullLayout.scene.camera changes). The course's notebooks 01 to 05 get the same checks
-  in their decks (tests/test_slides.py) and book pages (tests/test_book.py), where those
+  in their decks (tests/test_slides.py) and book pages (tests/test_book_laptop.py), where those
   are open already.
 - Each interactive figure's cell carries the same alt text in metadata.mystnb.image.alt as
   its figure's aria-label, and starts or sits on a slide of the deck.
@@ -22,7 +22,6 @@ from unittest import mock
 
 import nbformat
 import pytest
-import yaml
 
 from browser_support import (
     ROOT,
@@ -33,7 +32,7 @@ from browser_support import (
     screenshot_to,
     turn_deck_figures,
 )
-from tools import book, slides, vendor
+from tools import slides, vendor
 from tools.common import course_notebooks, read
 
 FIXTURE = ROOT / "tests" / "fixtures" / "10_fixture_interactive.ipynb"
@@ -202,66 +201,13 @@ def test_fixture_deck_report_counts_one_figure_with_alt(fixture_deck_open):
 
 
 # The course's decks (notebooks 01 to 05) are turned in tests/test_slides.py, in the decks
-# it opens and measures, and the book's pages in tests/test_book.py, on the pages it visits.
+# it opens and measures, and the book's pages in tests/test_book_laptop.py, on the pages it visits.
 
 
 # --- the book -------------------------------------------------------------------------------
-
-def _book_page(browser, page_path, shots):
-    off = Offline(browser)
-    try:
-        page = off.new_page()
-        page.goto(page_path.as_uri())
-        ids = page.evaluate("() => [...document.querySelectorAll('.plotly-graph-div')].map(g => g.id)")
-        assert ids, f"{page_path.name}: no plotly figure on the page"
-        for i in ids:
-            before, after = drag_turns(page, f"#{i}")
-            assert eye_moved(before, after) > 0.05, f"{page_path.name} #{i}: dragging did not turn it"
-            screenshot_to(page, shots / f"{i}.png")
-        assert page.evaluate("() => !!window.Plotly")
-        assert not off.problems(), off.problems()
-    finally:
-        off.context.close()
-
-
-@pytest.fixture(scope="module")
-def fixture_book(tmp_path_factory):
-    """The fixture notebook as a one-page Jupyter Book, with the book's own configuration."""
-    from jupyter_book.sphinx import build_sphinx
-    tmp = tmp_path_factory.mktemp("book")
-    src, out = tmp / "src", tmp / "out"
-    static = src / "course_static"
-    static.mkdir(parents=True)
-    shutil.copy(FIXTURE, src / FIXTURE.name)
-    (src / "index.md").write_text("# Fixture\n\nOne page with a figure to turn.\n")
-    for f in ("course.css", "course.js"):
-        shutil.copy(book.STATIC / f, static / f)
-    try:
-        vendor.install(static / "vendor", ["mathjax3"])
-    except SystemExit as e:
-        pytest.skip(str(e))
-    # where tools/book.py puts it; its HTML pass loads it on a page with a figure to turn
-    shutil.copy(vendor.install_plotly(tmp / "plotly"), static / "vendor" / "plotly.min.js")
-    config = book.book_config()
-    (src / "_config.yml").write_text(yaml.safe_dump(config, sort_keys=False))
-    toc = {"format": "jb-book", "root": "index", "chapters": [{"file": FIXTURE.stem}]}
-    (src / "_toc.yml").write_text(yaml.safe_dump(toc, sort_keys=False))
-    result = build_sphinx(str(src), str(out), noconfig=True, path_config=str(src / "_config.yml"),
-                          confoverrides={"external_toc_path": (src / "_toc.yml").as_posix(),
-                                         "latex_individualpages": False},
-                          doctreedir=str(tmp / "doctrees"), builder="html", quiet=True,
-                          keep_going=True)
-    assert not result, f"the fixture book did not build ({result})"
-    book.postprocess(out)  # the book's own HTML pass (thebe's duplicate script goes)
-    return out / f"{FIXTURE.stem}.html"
-
-
-@pytest.mark.browser
-def test_fixture_book_page_turns(browser, fixture_book):
-    html = fixture_book.read_text()
-    assert "plotly.min.js" in html and "cdn.plot.ly" not in html
-    assert ALT_FIXTURE_START in html
-    _book_page(browser, fixture_book, SHOTS / "book")
+# The book's pages of notebooks 01 to 05 are opened offline and each of their figures turned
+# in tests/test_book_laptop.py (with the book's one plotly.js, test_book.py checks that no
+# page loads anything from the network): a one-page book of the fixture would only repeat it.
 
 
 ALT_FIXTURE_START = "A body frame (red x, green y, blue z arrows)"

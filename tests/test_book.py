@@ -318,3 +318,26 @@ def test_a_plain_static_server_serves_it_with_no_other_request(browser, pages):
     finally:
         offline.close()
         server.shutdown()
+
+
+def test_code_keeps_its_indentation():
+    """A code line keeps its leading spaces when it is put in its own span (a parser folds a
+    run of spaces between two tags into one outside a <pre>), and copies as it was written."""
+    from bs4 import BeautifulSoup
+    html = ('<article><pre><span class="k">for</span> <span class="n">k</span>:\n'
+            '        <span class="k">return</span>  <span class="n">k</span>   # two\n</pre></article>')
+    soup = BeautifulSoup(html, "html.parser")
+    book.wrap_code_lines(soup)
+    assert soup.pre.get_text() == "for k:\n        return  k   # two\n"
+    assert soup.select("span.cl")[1]["style"] == "--i:8"
+
+
+def test_built_code_lines_start_with_their_indent(pages, soups):
+    wrong = []
+    for page in pages:
+        for line in soups[page.name].select("article pre.course-lines > span.cl"):
+            indent = int(re.search(r"--i:(\d+)", line.get("style", "")).group(1))
+            text = line.get_text()
+            if indent and not text.startswith(" " * indent):
+                wrong.append(f"{page.name}: {text.strip()[:50]!r} lost its {indent} spaces")
+    assert not wrong, "\n".join(wrong[:10])

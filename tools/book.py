@@ -737,7 +737,10 @@ def wrap_code_lines(soup):
             continue
         spans = line_spans(pre.decode_contents())
         pre.clear()
-        pre.append(BeautifulSoup(spans, "html.parser"))
+        # parsed inside a <pre>: outside one, the parser folds a run of spaces between two
+        # tags (a line's indent) into one space
+        for node in list(BeautifulSoup(f"<pre>{spans}</pre>", "html.parser").pre.contents):
+            pre.append(node.extract())
         pre["class"] = list(pre.get("class", [])) + ["course-lines"]
         changed = True
     return changed
@@ -1209,7 +1212,13 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
         page.evaluate("""() => Promise.all([...document.querySelectorAll('.plotly-graph-div')]
                          .map(d => window.Plotly ? Plotly.relayout(d, {sliders: [], updatemenus: [],
                            'title.text': String((d.layout.title && d.layout.title.text) || d.layout.title || '')
-                             .replace(/^Turn it:\\s*/, '')}) : null))""")
+                             .replace(/^Turn it:\\s*/, ''),
+                           // set for a projected slide; on a column of paper a third smaller
+                           'title.font.size': 15, 'legend.font.size': 13, 'font.size': 13,
+                           'margin.b': 10, 'legend.bgcolor': 'rgba(255,255,255,0.85)',
+                           ...Object.fromEntries(['xaxis', 'yaxis', 'zaxis'].flatMap(a => [
+                             [`scene.${a}.tickfont.size`, 11], [`scene.${a}.title.font.size`, 13],
+                             [`scene.${a}.nticks`, 4]]))}) : null))""")
         titles = page.evaluate(PRINT_PREPARE, None)
         options = dict(format="A4", print_background=True, outline=True, tagged=True,
                        display_header_footer=True, header_template=header,

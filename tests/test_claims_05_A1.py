@@ -192,3 +192,19 @@ def test_n12_axis_near_a_half_turn():
         if g <= 1e-8:                                    # the notes' axis: thousands long
             th = math.acos(max(-1.0, (np.trace(R) - 1) / 2))
             assert np.linalg.norm(_vee(R - R.T) / (2 * np.sin(th))) > 1e3
+
+
+def test_a12_solution_two_failures_just_short_of_a_half_turn():
+    # Exercise A1.2's solution: at pi - 1e-12, rounded from 50 digits, c is exactly -1, arccos
+    # gives the float pi and sin(fl(pi)) stands in for sin(1e-12): an axis thousands long. Built
+    # with so3lib.exp, c lies a rounding above -1, the angle is 1e-8 to 2e-8 off, and the axis
+    # comes out far too short.
+    for n in (_N, np.array([0.0, 0.0, 1.0])):
+        R = _exp50((np.pi - 1e-12) * n)
+        th = math.acos(max(-1.0, (np.trace(R) - 1) / 2))
+        assert (np.trace(R) - 1) / 2 == -1.0 and th == np.pi
+        assert 1e3 < np.linalg.norm(_vee(R - R.T) / (2 * np.sin(th))) < 1e5
+        R = exp((np.pi - 1e-12) * n)
+        th = math.acos((np.trace(R) - 1) / 2)
+        assert 5e-9 < (np.pi - 1e-12) - th < 3e-8
+        assert 1e-5 < np.linalg.norm(_vee(R - R.T) / (2 * np.sin(th))) < 1e-3

@@ -19,6 +19,22 @@ A = np.array([1.0, 2.0, 3.0])
 
 # --- notebook 00 ---------------------------------------------------------------------
 
+def test_00_setup_check_asks_for_the_python_the_makefile_needs():
+    """00, "Before you start" (the set-up check) and "Where to run it": the Python they ask
+    for is the Makefile's minimum, 3.11.5 (Debian 12's 3.11.2 says no, not yes)."""
+    import json
+    import re
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    need = re.search(r"sys\.version_info >= \((3, 11, \d+)\)", (root / "Makefile").read_text())
+    assert need, "the Makefile's version check moved"
+    cells = json.loads((root / "notebooks" / "00_start_here.ipynb").read_text())["cells"]
+    text = "\n".join("".join(c["source"]) for c in cells)
+    assert f"sys.version_info >= ({need.group(1)})" in text
+    version = need.group(1).replace(", ", ".")
+    assert f"Python {version} or newer" in text and "Python 3.11 or newer" not in text
+
+
 def test_00_sin_of_float_pi_is_about_1_2e_16():
     """00, "so3lib.log at the same two rotations" (the print of the recipe's two factors):
     sin(fl(pi)) is pi - fl(pi), about 1.2e-16, not 0."""

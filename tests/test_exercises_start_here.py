@@ -33,6 +33,8 @@ def test_module_holds_no_answer():
     (ANGLE, LOG),
     (np.float64(ANGLE), np.array(LOG)),
     (ANGLE, (0, 0, 5 - 2 * np.pi)),
+    (1.2832, [0.0, 0.0, -1.2832]),           # typed from what the solution cell prints
+    (1.283, [0, 0, -1.283]),                 # three decimal places, as the task asks
 ])
 def test_spin_prediction_right_answers_pass(angle, log):
     fb = check_spin_prediction(angle, log)
@@ -50,6 +52,10 @@ def test_spin_prediction_right_answers_pass(angle, log):
     (-ANGLE, LOG, "negative"),
     (4.0, LOG, "more than pi"),
     (1.0, LOG, "not the angle of a turn that reaches R"),
+    (1.28, LOG, "predicted_angle is close, but not to three decimal places"),
+    (1.3, [0.0, 0.0, -1.3], "predicted_angle is close, but not to three decimal places"),
+    (ANGLE, [0.0, 0.0, -1.28], "predicted_log is close, but not to three decimal places"),
+    (1.283, [0.0, 0.0, 1.283], "wrong way round"),
     (ANGLE, np.eye(3), "3x3 matrix"),
     (ANGLE, [0.0, 5.0], r"shape \(2,\)"),
     (ANGLE, [0.0, 0.0, 5.0], "longer than pi"),
@@ -69,7 +75,9 @@ def test_spin_prediction_angle_is_checked_by_the_trace_not_by_a_stored_value():
     with mp.workdps(50):
         exact = float(2 * mp.pi - 5)
     assert check_spin_prediction(exact, [0.0, 0.0, -exact])
-    assert not check_spin_prediction(exact + 1e-6, [0.0, 0.0, -exact])
+    assert check_spin_prediction(exact + 5e-4, [0.0, 0.0, -exact])      # three decimals
+    assert not check_spin_prediction(exact + 3e-3, [0.0, 0.0, -exact])
+    assert not check_spin_prediction(exact, [0.0, 0.0, -exact - 3e-3])
 
 
 # ------------------------------------------------------------------ 0.2 where NaN starts

@@ -6,6 +6,7 @@ exercise       the learner writes                           checker
 0.1            ``predicted_angle`` and ``predicted_log``:   :func:`check_spin_prediction`
                what ``angle(R)`` and ``log(R)`` return for
                ``R = exp((0, 0, 5))``, spun for 1 s
+               (to three decimal places)
 0.2            ``t_nan``: the angle below which the         :func:`check_nan_threshold`
                textbook recipe for the logarithm returns
                NaN, to within a factor of 3
@@ -35,6 +36,12 @@ _NOT_ANSWERED = ("No answer yet: replace the `...` (or `None`) with your answer 
 
 #: The spin of exercise 0.1: omega = (0, 0, 5) rad/s for tau = 1 s.
 OMEGA_SPIN = np.array([0.0, 0.0, 5.0])
+#: How close exercise 0.1's numbers must be: the task asks for three decimal places.
+TOL = 1e-3
+#: Further off than TOL but within this: the right answer, typed with too few digits.
+_NEAR = 0.05
+_DIGITS = ("{} is close, but not to three decimal places: type more digits, or write it "
+           "as an expression (np.pi is pi).")
 
 
 def _fail(name, why, hint=None):
@@ -99,10 +106,12 @@ def check_spin_prediction(predicted_angle, predicted_log):
 
     The angle must lie in :math:`[0, \pi]` and satisfy :math:`\cos\theta = \cos 5` (the
     trace of R is :math:`1 + 2\cos 5`); the vector must have length at most :math:`\pi`
-    (within 1e-9) and exponentiate to R (``so3lib.exp`` on both sides, within 1e-9).
-    Recognises the angle turned (5) in place of the principal angle, a negative angle,
-    the vector (0, 0, 5) itself (exp gives R, but it is longer than pi), and the short
-    turn taken the wrong way round.
+    and exponentiate to R (``so3lib.exp`` on both sides). The task asks for three decimal
+    places (or an expression), so each test holds to ``TOL`` = 1e-3: a value typed from
+    the four decimals the solution cell prints passes. Recognises an answer that is right but typed with too few
+    digits, the angle turned (5) in place of the principal angle, a negative angle, the
+    vector (0, 0, 5) itself (exp gives R, but it is longer than pi), and the short turn
+    taken the wrong way round.
     """
     name = "your prediction for omega = (0, 0, 5)"
     theta, why = _number(predicted_angle)
@@ -114,38 +123,44 @@ def check_spin_prediction(predicted_angle, predicted_log):
         return _fail(name, "predicted_log: " + why, None if why == _NOT_ANSWERED
                      else _LOG_HINT)
     R = exp(OMEGA_SPIN)
-    tol = 1e-9
-    angle_ok = -tol <= theta <= math.pi + tol and abs(math.cos(theta) - math.cos(5.0)) <= tol
-    if not angle_ok:
+    tol = TOL
+    in_range = -tol <= theta <= math.pi + tol
+    off = abs(math.cos(theta) - math.cos(5.0))          # 0 for an angle that reaches R
+    if not (in_range and off <= tol):
         if abs(theta - 5.0) <= tol:
             why = ("predicted_angle is 5, the angle turned. angle(R) sees only R, and R is "
                    "also reached by a shorter turn: it reports the shortest, from 0 to pi.")
-        elif theta < 0:
+        elif theta < -tol:
             why = ("predicted_angle is negative. angle(R) is a length, from 0 to pi: the "
                    "direction of the turn is in log's vector, not in the angle.")
         elif theta > math.pi + tol:
             why = "predicted_angle is more than pi, and angle(R) is always from 0 to pi."
+        elif off <= _NEAR:
+            why = _DIGITS.format("predicted_angle")
         else:
             why = ("with predicted_angle, 1 + 2 cos(angle) is not the trace of R: it is not "
                    "the angle of a turn that reaches R.")
         return _fail(name, why, _ANGLE_HINT)
     length = float(np.sqrt(phi @ phi))
-    reaches = float(np.abs(exp(phi) - R).max()) <= tol
+    miss = float(np.abs(exp(phi) - R).max())
+    reaches = miss <= tol
     if reaches and length <= math.pi + tol:
-        if abs(length - theta) > 1e-6:
+        if abs(length - theta) > 2 * tol:
             return _fail(name, "predicted_log is a logarithm of R, but its length is not "
                                "predicted_angle: the two predictions disagree.", _LOG_HINT)
         return Feedback(True, f"Correct: {name}. predicted_angle is in [0, pi] with "
                               "1 + 2 cos(angle) = tr R, and exp(predicted_log) is R with "
-                              "|predicted_log| = predicted_angle: the shortest turn, the "
-                              "other way round.")
+                              "|predicted_log| = predicted_angle (to three decimal places): "
+                              "the shortest turn, the other way round.")
     if reaches:
         why = ("exp(predicted_log) is R, but predicted_log is longer than pi: log returns "
                "the shortest turn that reaches R, and this is a longer one.")
-    elif float(np.abs(exp(-phi) - R).max()) <= tol:
+    elif float(np.abs(exp(-phi) - R).max()) <= _NEAR:
         why = ("predicted_log turns the wrong way round: exp of it is the turn that undoes "
                "R, not R. Going the short way from where 5 rad counter-clockwise ends means "
                "turning clockwise about z.")
+    elif miss <= _NEAR and length <= math.pi + _NEAR:
+        why = _DIGITS.format("predicted_log")
     else:
         why = "exp(predicted_log) is not R: it is not a rotation vector that reaches R."
     return _fail(name, why, _LOG_HINT)

@@ -308,3 +308,15 @@ def test_recipe_near_pi_1e_4_is_off_by_1e7_to_1e9_eps():
         R = exp((np.pi - 1e-4) * _unit(a))
         errs.append(_err(_recipe(R), log_ref(R)))
     assert 1e7 < min(errs) and max(errs) < 1e9, (min(errs), max(errs))
+
+
+def test_section5_c_is_one_below_about_2e8_and_below_one_from_3e8():
+    # Section 5: c = (tr R - 1)/2 of exp(theta n) comes out as 1 or above for most axes once
+    # theta^2/2 is below about eps (theta below about 2e-8), and stays below 1 from about 3e-8.
+    rng = np.random.default_rng(5)
+    axes = rng.standard_normal((200, 3))
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+    def share_at_one(th):
+        return np.mean([(np.trace(exp(th * a)) - 1) / 2 >= 1.0 for a in axes])
+    assert share_at_one(1e-8) == 1.0 and share_at_one(2e-8) > 0.5
+    assert share_at_one(3e-8) == 0.0 and share_at_one(5e-8) == 0.0

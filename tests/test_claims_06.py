@@ -14,7 +14,7 @@ the notebook's collapsed `verify` cells):
 * so3lib's C and D on the notebook's grids near 0 and near pi -> ``test_C_D_on_the_grids``
 * the written (6.7) loses between 1 % of eps/theta and eps/theta -> ``test_written_jacobian_loses_eps_over_theta``
 * (6.13) the residual's Jacobian -> ``test_residual_jacobian``
-* section 8: the Hessian of 1/2 |Log(R^T R_i)|^2 -> ``test_hessian_of_half_squared_distance``
+* section 7 (the rotation mean): the Hessian of 1/2 |Log(R^T R_i)|^2 -> ``test_hessian_of_half_squared_distance``
 * (6.18) a gyroscope: d/dt Log R(t) = J_r^-1 omega_b -> ``test_rotation_vector_rate``
 """
 

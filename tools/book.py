@@ -206,7 +206,7 @@ def download_copy(nb, name, repository_url=REPOSITORY_URL):
         f"inside the course, not on its own. Get {where}, and in it run\n\n"
         "```\nmake lab     # the first time: installs the pinned packages into .venv\n"
         "make test    # optional: checks the library and the notebooks\n```\n\n"
-        "(Python 3.11 or newer and `make`). `make lab` opens JupyterLab on the folder "
+        "(Python 3.11.5 or newer and `make`). `make lab` opens JupyterLab on the folder "
         f"`notebooks/`: open `{name}` there and run it top to bottom." + binder
         + "\n\nThe worked solutions are not in this file: each is under its exercise in the "
         "course's book (*Show solution*), or in the course folder's copy of this notebook.")
@@ -414,7 +414,7 @@ Each chapter begins with its time, its goals and what it needs first.
 
 ## How to run the notebooks
 
-{launch}- **On your own machine** (Python 3.11 or newer, and `make`): in the course folder, run
+{launch}- **On your own machine** (Python 3.11.5 or newer, and `make`): in the course folder, run
   `make lab`. The first time it installs the pinned packages into `.venv`; then JupyterLab
   opens `notebooks/00_start_here.ipynb`. Run each notebook top to bottom, then change the
   numbers and run it again.

@@ -46,7 +46,7 @@ what is still wrong.
 ## Start
 
 - **On a JupyterHub or Binder** your instructor gave you: open `notebooks/00_start_here.ipynb`.
-- **On your own machine** (Python 3.11 or newer), in this folder:
+- **On your own machine** (Python 3.11.5 or newer), in this folder:
 
       python3 -m venv .venv
       .venv/bin/python -m pip install -r environment.txt

@@ -125,20 +125,36 @@ def _pairs_61():
     return pairs + [("R0 = I and |R1 (-) R0| = 3e-200 rad", exp(tiny), np.eye(3), tiny)]
 
 
+# 3x3 matrices of mpmath numbers as lists of rows: mpmath's matrix class spends most of
+# its time on bookkeeping, and these checks take thousands of products.
+def _mul(A, B):
+    return [[A[i][0] * B[0][j] + A[i][1] * B[1][j] + A[i][2] * B[2][j] for j in range(3)]
+            for i in range(3)]
+
+
+def _transpose(A):
+    return [[A[j][i] for j in range(3)] for i in range(3)]
+
+
 def _log_mp(M):
-    """Log of a 3x3 mpmath matrix near a rotation with angle in (0, pi), as a list."""
-    v = [(M[2, 1] - M[1, 2]) / 2, (M[0, 2] - M[2, 0]) / 2, (M[1, 0] - M[0, 1]) / 2]
+    """Log of a 3x3 mpmath matrix (rows) near a rotation with angle in (0, pi), as a list."""
+    v = [(M[2][1] - M[1][2]) / 2, (M[0][2] - M[2][0]) / 2, (M[1][0] - M[0][1]) / 2]
     s = _mp.sqrt(sum(x * x for x in v))
-    theta = _mp.atan2(s, (M[0, 0] + M[1, 1] + M[2, 2] - 1) / 2)
+    theta = _mp.atan2(s, (M[0][0] + M[1][1] + M[2][2] - 1) / 2)
     return [theta / s * x for x in v]
 
 
 def _exp_mp(p):
+    """exp of the rotation vector p (mpmath numbers) by Rodrigues' formula, as rows."""
+    one, zero = _mp.mpf(1), _mp.mpf(0)
     th = _mp.sqrt(sum(x * x for x in p))
     if th == 0:
-        return _mp.eye(3)
-    K = _mp.matrix([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
-    return _mp.eye(3) + _mp.sin(th) / th * K + 2 * (_mp.sin(th / 2) / th)**2 * K * K
+        return [[one if i == j else zero for j in range(3)] for i in range(3)]
+    K = [[zero, -p[2], p[1]], [p[2], zero, -p[0]], [-p[1], p[0], zero]]
+    K2 = _mul(K, K)
+    a, b = _mp.sin(th) / th, 2 * (_mp.sin(th / 2) / th)**2
+    return [[(one if i == j else zero) + a * K[i][j] + b * K2[i][j] for j in range(3)]
+            for i in range(3)]
 
 
 def _judge_61(phi, g1, g0):
@@ -160,7 +176,7 @@ def _judge_61(phi, g1, g0):
                 steps = []
                 for sign in (1, -1):
                     E = _exp_mp([sign * h if i == j else _mp.mpf(0) for i in range(3)])
-                    M = E_phi * E if side == 1 else E.T * E_phi
+                    M = _mul(E_phi, E) if side == 1 else _mul(_transpose(E), E_phi)
                     steps.append(_log_mp(M))
                 cols.append([float((u - d) / (2 * h)) for u, d in zip(*steps)])
             out.append(np.array(cols).T)
@@ -457,12 +473,14 @@ def _judge_63(phi, b, got):
     its columns d/dphi_j by 50-digit centred differences (used here, never returned)."""
     with _mp.workdps(50):
         h = _mp.mpf("1e-20")
-        p, v = [_mp.mpf(float(x)) for x in phi], _mp.matrix([float(x) for x in b])
+        p, v = [_mp.mpf(float(x)) for x in phi], [_mp.mpf(float(x)) for x in b]
         cols = []
         for j in range(3):
             up = _exp_mp([x + (h if i == j else 0) for i, x in enumerate(p)])
             down = _exp_mp([x - (h if i == j else 0) for i, x in enumerate(p)])
-            cols.append([float(x) for x in (up.T * v - down.T * v) / (2 * h)])
+            # (up^T v - down^T v) / 2h, one component k at a time
+            cols.append([float(sum((up[i][k] - down[i][k]) * v[i] for i in range(3)) / (2 * h))
+                         for k in range(3)])
     ref = np.array(cols).T
     if _close(got, ref, 1e-12):
         return True, 0.0, None

@@ -818,25 +818,12 @@ async () => {
   await Promise.all([...document.images].map(i => i.decode().catch(() => null)));
   // The print view lays slides out anew, figures at their drawn size: a slide taller than
   // its page would push a figure, whole, onto the next page. Shrink its figures to fit.
-  // What a slide shows, in height: MathJax's copy of each formula for screen readers
-  // (mjx-assistive-mml, clipped to nothing on the page) can reach past the slide's end
-  // while nothing visible does, so the slide's own scrollHeight would overstate it.
-  const shownHeight = section => {
-    const top = section.getBoundingClientRect().top;
-    let bottom = top;
-    for (const el of section.querySelectorAll('*')) {
-      if (el.closest('mjx-assistive-mml, aside.notes')) continue;
-      const r = el.getBoundingClientRect();
-      if (r.width > 0 && r.height > 0) bottom = Math.max(bottom, r.bottom);
-    }
-    return bottom - top;
-  };
   let shrunk = 0;
   for (const pg of document.querySelectorAll('.reveal .pdf-page')) {
     const section = pg.querySelector('section');
     if (!section) continue;
     for (let round = 0; round < 3; round++) {
-      const over = shownHeight(section) - pg.clientHeight + 6;
+      const over = section.scrollHeight - pg.clientHeight + 6;
       const imgs = [...section.querySelectorAll('img.course-figure, .jp-RenderedMarkdown img')]
         .filter(i => i.offsetHeight > 0);
       if (over <= 0 || !imgs.length) break;

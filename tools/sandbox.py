@@ -437,6 +437,26 @@ def install(keypath):
 """
 
 
+_FONTS = []
+
+
+def _font_list():
+    """(file name, bytes) of matplotlib's list of the fonts on this machine, made once per
+    grading process. A kernel that finds none scans every font file before it draws (a
+    second or more per notebook); this one lists the same fonts, which the sandbox can
+    read (/usr and the environment). A font it cannot open makes matplotlib scan again."""
+    if not _FONTS:
+        try:
+            from matplotlib import font_manager
+            name = f"fontlist-v{font_manager.FontManager.__version__}.json"
+            with tempfile.TemporaryDirectory() as tmp:
+                font_manager.json_dump(font_manager.fontManager, Path(tmp) / name)
+                _FONTS.append((name, (Path(tmp) / name).read_bytes()))
+        except Exception:        # noqa: BLE001 -- without it the kernel only starts slower
+            _FONTS.append(("", b""))
+    return _FONTS[0]
+
+
 class KernelDied(Exception):
     """The sandboxed kernel stopped (killed at a time limit, out of memory, crashed)."""
 
@@ -463,6 +483,10 @@ class Sandbox:
         self.starts = getattr(self, "starts", 0) + 1     # new socket paths for each start
         conn = self.scratch / f"kernel{self.starts}.json"
         write_connection_file(str(conn), transport="ipc", ip=str(self.scratch / f"kernel{self.starts}"))
+        name, fonts = _font_list()
+        if fonts:                        # matplotlib's font list, not rebuilt in every kernel
+            (self.scratch / ".matplotlib").mkdir(exist_ok=True)
+            (self.scratch / ".matplotlib" / name).write_bytes(fonts)
         if os.geteuid() == 0:
             for path in [self.scratch, *self.scratch.rglob("*")]:
                 os.chown(path, NOBODY, NOBODY)

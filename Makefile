@@ -17,7 +17,7 @@ unexport PYTHONDONTWRITEBYTECODE
 NOTEBOOKS := $(sort $(wildcard notebooks/*.ipynb))
 NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sanitize.cfg
 
-.PHONY: help lab test test-lib test-notebooks test-browser test-portable execute bench slides book student clean
+.PHONY: help lab test test-lib test-notebooks test-browser test-portable execute bench bench-grade slides book student clean
 .PHONY: assignments grade
 .PHONY: lint lint-lib
 .PHONY: slides-solutions handouts
@@ -35,6 +35,7 @@ help:
 	@echo "make execute  re-run every notebook in place, top to bottom in a fresh kernel"
 	@echo "              (one: make execute NB=notebooks/01_hat_map_and_lemma.ipynb)"
 	@echo "make bench    time so3lib's exp and log against scipy"
+	@echo "make bench-grade  time make grade on a made-up class (STUDENTS=3 per assignment, BENCH_JOBS=2)"
 	@echo "make lint     ruff on so3lib, tests, tools and the notebooks (part of make test)"
 	@echo "make lint-lib ruff on so3lib, tests and tools (part of make test-lib)"
 	@echo "make slides   a reveal.js deck per notebook in build/slides/ (presents offline)"
@@ -142,6 +143,11 @@ execute: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python tests/benchmark.py
+
+# `make grade`'s speed: a made-up class of STUDENTS honest notebooks per assignment graded
+# with BENCH_JOBS workers (2), as seconds per notebook and minutes for 1,400 (target: within 60)
+bench-grade: $(STAMP)
+	$(BIN)/python -m tools.bench_grade --students $(or $(STUDENTS),3) --jobs $(or $(BENCH_JOBS),2)
 
 # The other editions (tools/): each fetches reveal.js / MathJax from the npm registry the
 # first time (into build/npm/) and rebuilds only what changed.

@@ -169,6 +169,13 @@ def test_real_notebooks_are_tagged():
     assert not untagged, f"no cell tagged 'answer' yet in {untagged}: the loop ran on the fixture"
 
 
+def _written_points(course, name):
+    """The points of the written parts (graded by hand) of assignment NAME."""
+    nb = read(course / "source" / name / f"{name}.ipynb")
+    return sum(c.metadata["nbgrader"].get("points", 0) for c in nb.cells
+               if c.metadata.get("nbgrader", {}).get("grade_id", "").endswith("-written"))
+
+
 def test_grades_csv_has_every_score(coursework):
     rows, expected, made = coursework["rows"], coursework["expected"], coursework["made"]
     got = {(r["student_id"], r["assignment"]): r for r in rows}
@@ -182,8 +189,11 @@ def test_grades_csv_has_every_score(coursework):
     for key, per_exercise in expected.items():
         row = got[key]
         want = sum(points for points, _ in per_exercise.values())
+        # a written part left as handed out scores 0 until it is graded by hand; it still
+        # counts in the assignment's maximum
         assert float(row["score"]) == want, (key, row, per_exercise)
-        assert float(row["max_score"]) == sum(ex.points for ex in made[key[1]]), row
+        written = _written_points(coursework["course"], key[1])
+        assert float(row["max_score"]) == sum(ex.points for ex in made[key[1]]) + written, row
 
 
 def test_each_exercise_scores_what_it_must(coursework):

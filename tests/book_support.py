@@ -6,6 +6,7 @@ blocked, and the measures taken in a page.
 
 import os
 import re
+from pathlib import Path
 
 import pytest
 from bs4 import BeautifulSoup
@@ -26,6 +27,34 @@ PHONE = {"width": 390, "height": 844}
 MATHJAX_READY = "window.MathJax && MathJax.startup && MathJax.startup.promise"
 # the pages of notebooks 01 to 05 each have a figure the learner turns (so3lib.plot.show_3d)
 TURNABLE = [p for p in course_notebooks() if p.name[:2] in {"01", "02", "03", "04", "05"}]
+
+
+def remembered(request, name, visit):
+    """What VISIT() saw in the book (a dict, from one visit of every page), or what it saw
+    last time, when that visit passed every test of its module and nothing it looked at has
+    changed since: the built book, the test files and Chromium (tests/pass_record.py; a
+    fresh clone, CI and `make test FRESH=1` always visit). The tests read it either way."""
+    from pass_record import PassRecord, digest
+    from browser_support import chromium_executable
+
+    site = built()[0][0].parent
+    axe_path()                      # the axe-core the laptop's visit runs, fetched once
+    here = ROOT / "tests"
+    browser = [Path(p) for p in (chromium_executable(), "/usr/lib/chromium/chromium") if p]
+    extra = " ".join(f"{p}:{p.stat().st_size}:{p.stat().st_mtime_ns}" for p in browser if p.is_file())
+    key = digest([site, Path(request.module.__file__), here / "book_support.py",
+                  here / "browser_support.py", ROOT / "build" / "book-test"], ROOT, extra)
+    record = PassRecord(name)
+    if record.fresh("key", key) and isinstance(record.passed.get("found"), dict):
+        return record.passed["found"]
+    found = visit()
+    failed = request.session.testsfailed
+
+    def keep():
+        if request.session.testsfailed == failed:
+            record.record({"key": key, "found": found})
+    request.addfinalizer(keep)
+    return found
 
 
 def skip_or_fail(why):

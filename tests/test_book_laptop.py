@@ -16,6 +16,7 @@ from book_support import (
     axe,
     axe_path,
     open_page,
+    remembered,
     turn_figures,
 )
 from browser_support import MATHJAX_ERRORS, screenshot
@@ -33,8 +34,13 @@ DARK = """() => {
 
 
 @pytest.fixture(scope="module")
-def laptop(browser, pages):
-    """What each check needs, from one visit of every page."""
+def laptop(request, pages):
+    """What each check needs, from one visit of every page (or the last one's, when nothing
+    it looked at changed: book_support.remembered)."""
+    return remembered(request, "book-laptop", lambda: _visit(request.getfixturevalue("browser"), pages))
+
+
+def _visit(browser, pages):
     script = axe_path()
     turnable = {f"{p.stem}.html" for p in TURNABLE}
     found = {}

@@ -6,14 +6,20 @@ button over it.
 """
 
 import pytest
-from book_support import CUT_OFF, PHONE, PHONE_FIGURES, TEXT_FIRST, BookOffline, open_page
+from book_support import CUT_OFF, PHONE, PHONE_FIGURES, TEXT_FIRST, BookOffline, open_page, remembered
 from browser_support import screenshot
 
 pytestmark = pytest.mark.browser
 
 
 @pytest.fixture(scope="module")
-def phone(browser, pages):
+def phone(request, pages):
+    """What each check needs, from one visit of every page (or the last one's, when nothing
+    it looked at changed: book_support.remembered)."""
+    return remembered(request, "book-phone", lambda: _visit(request.getfixturevalue("browser"), pages))
+
+
+def _visit(browser, pages):
     found = {}
     offline = BookOffline(browser, viewport=PHONE)
     page = offline.new_page()

@@ -137,14 +137,15 @@ def test_01_eigenvalues_of_hat():
     assert np.abs(ev - np.array([-1j * r14, 0, 1j * r14])).max() <= 16 * EPS * r14
 
 
-@pytest.mark.parametrize("tau, fit, coef", [(0.0, 8, 16), (0.7, 8, 16), (1.5, 8, 16),
-                                            (2.4, 8, 16), (4.0, 64, 64), (4.83, 256, 256)])
+@pytest.mark.parametrize("tau, fit, coef", [(0.0, 32, 16), (0.7, 32, 16), (1.5, 32, 16),
+                                            (2.4, 32, 16), (4.0, 64, 64), (4.83, 256, 256)])
 def test_01_fitted_series_coefficients_are_1_sin_and_1_minus_cos(tau, fit, coef):
     """01, "A numerical preview" and "A peek ahead": the 40-term partial sum of the series
     of exp(tau hat(omega)) fitted as c0 I + alpha hat(omega) + beta hat(omega)^2 by least
     squares gives c0 = 1, alpha = sin(theta)/|omega|, beta = (1 - cos theta)/|omega|^2
-    (theta = |omega| tau, 50-digit mpmath), within 16 eps, and leaves a misfit within 8 eps
-    of the sum, up to theta = pi; over the rest of the whole turn the notebook draws, whose
+    (theta = |omega| tau, 50-digit mpmath), within 16 eps, and leaves a misfit within 32 eps
+    of the sum (the notebook's bound: 4 eps here, 6 under other summation orders), up to
+    theta = pi; over the rest of the whole turn the notebook draws, whose
     terms reach 85, within 64 eps at theta = 5.2 and 256 eps at 2 pi."""
     omega = np.array([0.3, -0.4, 1.2])
     W = so3lib.hat(omega)

@@ -83,8 +83,9 @@ def built():
 
 
 # What a reader would have to scroll sideways: a code or output block wider than its box
-# (they wrap: none may scroll), a display formula wider than its column (formulas are set
-# smaller until they fit, course.js), a table wider than the screen with no scroll of its
+# (they wrap: none may scroll), a display formula wider than its column with no scroll of
+# its own (formulas are set smaller until they fit, down to 80%, course.js) or set too small
+# to read, inline maths past its line with no scroll of its own, a table wider than the screen with no scroll of its
 # own, or the page itself wider than the screen. Collapsed blocks are skipped.
 CUT_OFF = """() => {
   const cut = [];
@@ -96,11 +97,24 @@ CUT_OFF = """() => {
     if (el.scrollWidth > el.clientWidth + 1 || r.right > innerWidth + 1)
       cut.push('code or output scrolls sideways: ' + text(el));
   }
+  // a formula wider than its column scrolls in its own box, which lies within the column
+  const ownScroll = el => ['auto', 'scroll'].includes(getComputedStyle(el).overflowX);
   for (const el of document.querySelectorAll('article mjx-container[display="true"]')) {
     if (!shown(el)) continue;
     const avail = el.parentElement.clientWidth;
-    if (Math.max(el.scrollWidth, el.offsetWidth) > avail + 1)
+    const wide = Math.max(el.scrollWidth, el.offsetWidth) > avail + 1;
+    if (wide && !(ownScroll(el) && el.clientWidth <= avail + 1))
       cut.push('formula wider than its column: ' + text(el));
+    const size = parseFloat(getComputedStyle(el).fontSize);
+    const body = parseFloat(getComputedStyle(el.closest('article')).fontSize);
+    if (size < 0.75 * body) cut.push(`formula set at ${size.toFixed(1)} px: ` + text(el));
+  }
+  for (const el of document.querySelectorAll('article mjx-container:not([display="true"])')) {
+    if (!shown(el) || el.closest('td, th, .pst-scrollable-table-container')) continue;
+    const r = el.getBoundingClientRect();
+    const box = (el.closest('p, li, dd, div') || el.parentElement).getBoundingClientRect();
+    if ((r.right > box.right + 1 || r.right > innerWidth + 1) && !(ownScroll(el) && el.clientWidth <= box.width + 1))
+      cut.push('inline formula runs past its line: ' + text(el));
   }
   for (const t of document.querySelectorAll('article table')) {
     if (!shown(t)) continue;
@@ -117,7 +131,8 @@ CUT_OFF = """() => {
 }"""
 
 # On a phone, each 3-D figure: a swipe over it scrolls the page (the shield, course.js), its
-# title lies inside it, and no toolbar or "Back to top" button sits on it.
+# title lies inside it, its legend above the scene (not over it), and no toolbar or "Back to
+# top" button sits on it.
 PHONE_FIGURES = """() => [...document.querySelectorAll('.plotly-graph-div')].map(fig => {
   const r = fig.getBoundingClientRect();
   const cover = fig.parentElement.querySelector(':scope > .course-figure-shield');
@@ -126,13 +141,24 @@ PHONE_FIGURES = """() => [...document.querySelectorAll('.plotly-graph-div')].map
   const t = title ? title.getBoundingClientRect() : null;
   const bar = fig.querySelector('.modebar-container');
   const top = document.querySelector('#pst-back-to-top');
+  const legend = fig.querySelector('.legend');
+  const size = fig._fullLayout && fig._fullLayout._size;
+  const sceneTop = size ? r.top + size.t : r.top;
   return {id: fig.id,
+          legendClear: !legend || legend.getBoundingClientRect().bottom <= sceneTop + 2,
           shield: !!cover && !cover.hidden && cover.getBoundingClientRect().height > r.height / 2,
           turn: !!turn && turn.textContent.includes('Turn'),
           titleInside: !t || (t.left >= r.left - 1 && t.right <= r.right + 1),
           toolbar: !!bar && getComputedStyle(bar).display !== 'none',
           backToTop: !!top && getComputedStyle(top).display !== 'none'};
 })"""
+
+# On a phone, the header's buttons are touch targets of 44 px or more.
+SMALL_TARGETS = """() => [...document.querySelectorAll('.bd-header-article button, .bd-header-article a.btn, .bd-header button, label.sidebar-toggle')]
+  .filter(b => b.getClientRects().length && getComputedStyle(b).visibility !== 'hidden')
+  .map(b => [b.getAttribute('aria-label') || b.title || b.textContent.trim() || b.className, b.getBoundingClientRect()])
+  .filter(([, r]) => r.width > 0 && (r.width < 43.5 || r.height < 43.5))
+  .map(([name, r]) => `${name}: ${Math.round(r.width)}x${Math.round(r.height)}`)"""
 
 # At a phone width, the first thing on the screen is the page's text, not the contents.
 TEXT_FIRST = """() => {

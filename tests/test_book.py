@@ -294,6 +294,39 @@ def test_search_finds_sections_with_an_excerpt_offline(browser, pages, soups):
 
 
 @pytest.mark.browser
+def test_search_keeps_maths_as_text_and_leaves_folded_code_out(browser, pages):
+    """The index keeps maths as Unicode (a title reads "Near π: ...", not "Near :"), "pi"
+    finds π, and the code of a folded figure cell is not quoted as an excerpt."""
+    import json
+    out = pages[0].parent
+    index = json.loads((out / "_static" / "course-search.js").read_text(encoding="utf-8")
+                       .removeprefix("window.COURSE_SEARCH = ").rstrip().rstrip(";"))
+    titles = [e["t"] for e in index]
+    assert any("π" in t for t in titles), "no section title keeps its π"
+    assert not [t for t in titles if re.search(r"\\[a-zA-Z]+|\s[:,]", t)], \
+        [t for t in titles if re.search(r"\\[a-zA-Z]+|\s[:,]", t)][:5]
+    assert not [e["t"] for e in index if "plt.subplots" in e["x"]], "folded figure code in the index"
+    offline = Offline(browser)
+    page = offline.new_page()
+    page.set_default_timeout(60_000)
+    try:
+        page.goto((out / "search.html").as_uri() + "?q=logarithm near pi")
+        page.wait_for_function("document.querySelectorAll('#search-results ul.search li').length > 0")
+        hits = page.evaluate(SEARCH_RESULTS)
+        assert any(h["href"].startswith("04_") and "π" in h["title"] for h in hits), \
+            [h["title"] for h in hits][:10]
+    finally:
+        offline.close()
+
+
+def test_table_labels_read_as_maths(pages, soups):
+    """A phone shows each table cell under its column's heading (data-label): no TeX there."""
+    bad = [f"{p.name}: {td['data-label']}" for p in pages for td in soups[p.name].select("td[data-label]")
+           if re.search(r"\\[(a-zA-Z]", td["data-label"])]
+    assert not bad, bad[:10]
+
+
+@pytest.mark.browser
 def test_a_plain_static_server_serves_it_with_no_other_request(browser, pages):
     class Quiet(http.server.SimpleHTTPRequestHandler):
         def log_message(self, *args):

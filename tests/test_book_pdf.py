@@ -88,3 +88,33 @@ def test_no_heading_ends_a_page(pdf):
 
 def _squash(text):
     return re.sub(r"\W+", "", text).lower()
+
+
+@pytest.mark.browser
+def test_no_text_past_the_margins(pdf):
+    """Every word lies inside the page's printed area (A4, 14 mm side margins): a table or
+    a formula wider than the column would run past the right margin and be lost. Chromium
+    drops what lies past the paper's edge, so the print also lists, as it lays the page out,
+    every cell, formula or line that ends past the column (tools/book.py, PAST_MARGIN)."""
+    import json
+    listed = json.loads(pdf.with_name(pdf.name + ".past-margin.json").read_text())
+    assert not listed, "past the right margin:\n" + "\n".join(listed[:15])
+    html = subprocess.run(["pdftotext", "-bbox", str(pdf), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    past = []
+    for number, page in enumerate(re.findall(r'<page width="([\d.]+)"[^>]*>(.*?)</page>', html, re.S), 1):
+        width = float(page[0])
+        right = width - 14 / 25.4 * 72 + 2   # the right margin, in points, and 2 pt to spare
+        for x_max, word in re.findall(r'<word xMin="[\d.]+" yMin="[\d.]+" xMax="([\d.]+)" '
+                                      r'yMax="[\d.]+">([^<]*)</word>', page[1]):
+            if float(x_max) > right:
+                past.append(f"page {number}: {word!r} ends at {float(x_max):.0f} pt of {width:.0f}")
+    assert not past, f"{len(past)} words past the right margin, e.g.\n" + "\n".join(past[:15])
+
+
+@pytest.mark.browser
+def test_the_pdf_ends_with_a_closing_page(pdf):
+    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    last = [p for p in text.split("\f") if p.strip()][-1]
+    assert "About this course" in last and "CC BY 4.0" in last and "cite" in last, last[:400]

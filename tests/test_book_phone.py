@@ -6,7 +6,7 @@ button over it.
 """
 
 import pytest
-from book_support import CUT_OFF, PHONE, PHONE_FIGURES, TEXT_FIRST, BookOffline, open_page, remembered
+from book_support import CUT_OFF, PHONE, PHONE_FIGURES, SMALL_TARGETS, TEXT_FIRST, BookOffline, open_page, remembered
 from browser_support import screenshot
 
 pytestmark = pytest.mark.browser
@@ -31,7 +31,7 @@ def _visit(browser, pages):
                 .every(f => f._fullLayout)""")
             page.wait_for_timeout(300)  # the titles are refitted once drawn
             found[path.name] = {"cut": page.evaluate(CUT_OFF), "layout": page.evaluate(TEXT_FIRST),
-                                "figures": page.evaluate(PHONE_FIGURES)}
+                                "figures": page.evaluate(PHONE_FIGURES), "small": page.evaluate(SMALL_TARGETS)}
             if path in (pages[0], pages[2]):
                 screenshot(page, f"book_{path.stem}_phone")
         found["_problems"] = offline.problems()
@@ -57,6 +57,8 @@ def test_on_a_phone_3d_figures_let_the_page_scroll_and_show_their_title(phone, p
                 problems.append(f"{path.name} #{fig['id']}: a swipe over it does not scroll the page")
             if not fig["titleInside"]:
                 problems.append(f"{path.name} #{fig['id']}: its title is cut off")
+            if not fig.get("legendClear"):
+                problems.append(f"{path.name} #{fig['id']}: its legend covers the scene")
             if fig["toolbar"] or fig["backToTop"]:
                 problems.append(f"{path.name} #{fig['id']}: a toolbar or 'Back to top' covers it")
     assert not problems, "\n".join(problems)
@@ -68,3 +70,8 @@ def test_on_a_phone_the_text_comes_first(phone, pages):
         assert not layout["navShown"], f"{path.name}: the contents cover the text on a phone"
         assert layout["headingTop"] is not None and layout["headingTop"] < PHONE["height"] / 3, \
             f"{path.name}: the title starts {layout['headingTop']} px down"
+
+
+def test_on_a_phone_the_header_buttons_are_big_enough_to_touch(phone, pages):
+    small = [f"{path.name}: {b}" for path in pages for b in phone[path.name]["small"]]
+    assert not small, "touch targets under 44 px:\n" + "\n".join(small[:12])

@@ -27,6 +27,7 @@ import argparse
 import contextlib
 import copy
 import fcntl
+import json
 import os
 import re
 import shutil
@@ -466,6 +467,33 @@ def footer_html():
             f'The whole course as one PDF: <a href="course.pdf">course.pdf</a>.</p>')
 
 
+def closing_page(repository_url=REPOSITORY_URL):
+    """The PDF's last page: the edition, the licence, how to cite the course, and where its
+    notebooks are (the print appends it after the last chapter: print_pdf)."""
+    from html import escape
+    c = citation()
+    edition = f"Version {c['version']}, {_long_date(c['date'])}." if c["version"] else ""
+    year = c["date"][:4] if c["date"] else ""
+    cite = (f"{c['authors']} ({year}). {BOOK_TITLE}: an open course."
+            + (f" Version {c['version']}." if c["version"] else "")
+            + (f" {repository_url}" if repository_url else ""))
+    where = (f'The notebooks, so3lib and the tools that build this book are at '
+             f'<a href="{escape(repository_url)}">{escape(repository_url)}</a>.' if repository_url else
+             "The notebooks (notebooks/), so3lib and the tools that build this book come with "
+             "the course's folder; the web book's download menu gives each notebook, ready to run.")
+    return (f'<section id="course-print-close" class="course-close">'
+            f'<h2>About this course</h2>'
+            f'<p><strong>{escape(BOOK_TITLE)}</strong>. {escape(edition)} By {escape(c["authors"])}.</p>'
+            f'<p>The course text and figures are under the Creative Commons Attribution 4.0 licence '
+            f'(CC BY 4.0, {CC_BY}); the code (so3lib, the notebooks\' code cells, the tools) under '
+            f'the BSD 3-Clause licence. The full terms are in the file LICENSE.</p>'
+            f'<p>To cite the course: {escape(cite)} (CITATION.cff holds the same in a form '
+            f'reference managers read.)</p>'
+            f'<p>{where} Each chapter runs in JupyterLab as it is; the worked solutions, printed '
+            f'here at the end of each chapter, are folded under their exercises there.</p>'
+            f'</section>')
+
+
 def book_config(repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
     """Jupyter Book's _config.yml, as a dict. Without a repository URL the book carries no
     launch buttons and no repository link (a button that goes nowhere is worse than none)."""
@@ -746,6 +774,71 @@ def wrap_code_lines(soup):
     return changed
 
 
+_TEX_SYMBOLS = {
+    "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "Delta": "Δ", "epsilon": "ε",
+    "varepsilon": "ε", "theta": "θ", "vartheta": "θ", "Theta": "Θ", "lambda": "λ", "mu": "μ",
+    "pi": "π", "Pi": "Π", "rho": "ρ", "sigma": "σ", "Sigma": "Σ", "tau": "τ", "phi": "φ",
+    "varphi": "φ", "Phi": "Φ", "psi": "ψ", "omega": "ω", "Omega": "Ω", "eta": "η", "xi": "ξ",
+    "kappa": "κ", "nu": "ν", "zeta": "ζ", "chi": "χ",
+    "cdot": "·", "times": "×", "le": "≤", "leq": "≤", "ge": "≥", "geq": "≥", "ne": "≠",
+    "neq": "≠", "approx": "≈", "to": "→", "mapsto": "↦", "infty": "∞", "in": "∈",
+    "lVert": "‖", "rVert": "‖", "Vert": "‖", "|": "‖", "lvert": "|", "rvert": "|", "vert": "|",
+    "pm": "±", "mp": "∓", "partial": "∂", "nabla": "∇", "sum": "Σ", "prod": "Π", "circ": "∘",
+    "ldots": "…", "dots": "…", "cdots": "⋯", "sim": "∼", "equiv": "≡", "perp": "⊥",
+    "parallel": "∥", "subset": "⊂", "top": "ᵀ", "dagger": "†", "ell": "ℓ", "hbar": "ħ",
+    "sqrt": "√", "int": "∫", "oplus": "⊕", "otimes": "⊗", "langle": "⟨", "rangle": "⟩",
+    "quad": " ", "qquad": " ", ",": " ", ";": " ", ":": " ", "!": "", " ": " ",
+    "{": "{", "}": "}", "lbrace": "{", "rbrace": "}",
+}
+_SUPERSCRIPT = str.maketrans("0123456789+-=()nT", "⁰¹²³⁴⁵⁶⁷⁸⁹⁺⁻⁼⁽⁾ⁿᵀ")
+_SUBSCRIPT = str.maketrans("0123456789+-=()", "₀₁₂₃₄₅₆₇₈₉₊₋₌₍₎")
+
+
+def tex_to_text(tex):
+    """TeX maths as plain Unicode text, for places that show no typeset maths (a table's
+    column label on a phone, the search's titles and excerpts): "\\theta = d" -> "θ = d"."""
+    t = tex.strip()
+    if t.startswith(("\\(", "\\[")):
+        t = t[2:-2] if t.endswith(("\\)", "\\]")) else t[2:]
+    t = t.strip("$")
+    t = re.sub(r"\\(?:begin|end)\{[a-z*]+\}", " ", t)
+    t = re.sub(r"\\(?:left|right|big|Big|bigg|Bigg)[lr]?\b\.?", "", t)
+    t = re.sub(r"\\(?:operatorname|mathrm|mathbf|mathit|mathsf|mathcal|mathbb|text|textrm|textit|boldsymbol|bm)\s*\{([^{}]*)\}", r"\1 ", t)
+    for _ in range(3):  # nested fractions
+        t = re.sub(r"\\[dt]?frac\s*\{([^{}]*)\}\s*\{([^{}]*)\}", lambda m: (
+            f"{m.group(1)}/{m.group(2)}" if len(m.group(1)) < 2 and len(m.group(2)) < 2
+            else f"({m.group(1)})/({m.group(2)})"), t)
+    t = re.sub(r"\\(?:hat|widehat)\s*\{\\([A-Za-z]+)\}", lambda m: _TEX_SYMBOLS.get(m.group(1), m.group(1)) + "\u0302", t)
+    t = re.sub(r"\\(?:hat|widehat)\s*\\([A-Za-z]+)", lambda m: _TEX_SYMBOLS.get(m.group(1), m.group(1)) + "\u0302", t)
+    t = re.sub(r"\\(?:hat|widehat)\s*([A-Za-z])", "\\1\u0302", t)
+    t = re.sub(r"\\(?:hat|widehat)\s*\{([^{}]*)\}", lambda m: "".join(c + "\u0302" for c in m.group(1)) if len(m.group(1)) == 1 else f"({m.group(1)})^", t)
+    t = re.sub(r"\\(?:tilde|widetilde)\s*\{?([A-Za-z])\}?", "\\1\u0303", t)
+    t = re.sub(r"\\(?:bar|overline)\s*\{?([A-Za-z])\}?", "\\1\u0304", t)
+    t = re.sub(r"\\(?:dot)\s*\{?([A-Za-z])\}?", "\\1\u0307", t)
+    t = re.sub(r"\\sqrt\s*\{([^{}]*)\}", r"√(\1)", t)
+    t = re.sub(r"\\([A-Za-z]+|.)", lambda m: _TEX_SYMBOLS.get(m.group(1), m.group(1)), t)
+    # hats over a Greek letter that was a command: "\hat\omega" became "\hat ω"
+    t = re.sub(r"\^\{([^{}]*)\}", lambda m: m.group(1).translate(_SUPERSCRIPT)
+               if all(c in "0123456789+-=()nT" for c in m.group(1))
+               else "^" + m.group(1) if len(m.group(1).replace("\u0302", "")) == 1 else "^(" + m.group(1) + ")", t)
+    t = re.sub(r"\^([0-9nT])", lambda m: m.group(1).translate(_SUPERSCRIPT), t)
+    t = re.sub(r"_\{([^{}]*)\}", lambda m: m.group(1).translate(_SUBSCRIPT)
+               if m.group(1).isdigit() else m.group(1), t)
+    t = re.sub(r"_([0-9])", lambda m: m.group(1).translate(_SUBSCRIPT), t)
+    t = re.sub(r"_([A-Za-z])", r"\1", t)
+    t = t.replace("{", "").replace("}", "").replace("&", " ").replace("~", " ")
+    return re.sub(r"\s+", " ", t).strip()
+
+
+def plain_text(element):
+    """An element's text with its maths as Unicode (tex_to_text), in a copy."""
+    copy = BeautifulSoup(str(element), "html.parser")
+    for math in copy.select(".math"):
+        math.replace_with(" " + tex_to_text(math.get_text("")) + " ")
+    text = re.sub(r"\s+", " ", copy.get_text(" ")).strip()
+    return re.sub(r"\s+([,.;:)])", r"\1", re.sub(r"\(\s+", "(", text))
+
+
 def section_index(out, pages):
     """Every section of every page, with its own text (not its subsections'), for the
     course's search (course.js): [{p: page, i: anchor, c: chapter, t: title, x: text}]."""
@@ -755,9 +848,12 @@ def section_index(out, pages):
         article = soup.select_one("article")
         if article is None:
             continue
-        for bad in article.select(".math, script, style, .headerlink, .copybtn, "
-                                  ".course-figure-shield, .plotly-graph-div"):
+        # a figure's folded code is not what a reader searches for; maths is kept as text
+        for bad in article.select("script, style, .headerlink, .copybtn, details.hide.above-input, "
+                                  ".course-figure-shield, .plotly-graph-div, mjx-container"):
             bad.decompose()
+        for math in article.select(".math"):
+            math.replace_with(" " + tex_to_text(math.get_text("")) + " ")
         h1 = article.select_one("h1")
         chapter = h1.get_text(" ", strip=True) if h1 else page.stem
         for section in article.select("section[id]"):
@@ -867,7 +963,7 @@ def postprocess(out, repository_url=REPOSITORY_URL):
         # A table's cells carry their column's heading, which a phone shows above each cell
         # when it stacks the rows (course.css).
         for table in soup.select("article table"):
-            heads = [th.get_text(" ", strip=True) for th in table.select("thead th")]
+            heads = [plain_text(th) for th in table.select("thead th")]
             for tr in table.select("tbody tr"):
                 for head, td in zip(heads, tr.find_all("td", recursive=False)):
                     if td.get("data-label") != head:
@@ -1064,6 +1160,62 @@ PRINT_PREPARE = r"""(numbers) => {
       chapter.appendChild(end);
     }
     document.body.dataset.courseSolutions = String(n);
+    // a solution printed away from its exercise: "the figure below" is the one after the exercise
+    for (const item of document.querySelectorAll('.course-solution-printed')) {
+      const w = document.createTreeWalker(item, NodeFilter.SHOW_TEXT);
+      while (w.nextNode()) {
+        const t = w.currentNode;
+        if (t.parentElement.closest('pre, code, mjx-container')) continue;
+        t.nodeValue = t.nodeValue
+          .replace(/\b([Tt])he figures\s+below\s+show\b/g, '$1he figures after the exercise show')
+          .replace(/\b([Tt])he figure\s+below\s+shows\b/g, '$1he figure after the exercise shows')
+          .replace(/\b([Tt])he figures?\s+below\b/g, '$1he figures after the exercise');
+      }
+    }
+    // a code box with nothing to show (its input folded away on paper) leaves no empty frame
+    for (const c of article.querySelectorAll('div.cell')) {
+      const shown = [...c.querySelectorAll('pre, img, svg, table, .plotly-graph-div, p, mjx-container')]
+        .some(e => !e.closest('details.hide.above-input') && (e.textContent.trim() || e.matches('img, svg, .plotly-graph-div')));
+      if (!shown) c.classList.add('course-empty');
+    }
+    for (const pre of article.querySelectorAll('div.highlight')) {
+      if (!pre.textContent.trim()) pre.classList.add('course-empty');
+    }
+    // a closing page: licence, how to cite, where the notebooks are
+    const close = document.getElementById('course-print-close');
+    if (close) article.appendChild(close);
+  }
+  // wide inline maths (in a table cell, say) is set smaller until it fits its box
+  for (const m of article.querySelectorAll('mjx-container:not([display="true"])')) {
+    const box = m.closest('td, th, p, li') || m.parentElement;
+    if (!box) continue;
+    if (m.dataset.courseSize === undefined) m.dataset.courseSize = m.style.fontSize || '';
+    m.style.fontSize = m.dataset.courseSize;
+    const avail = box.clientWidth - 4, wide = m.getBoundingClientRect().width;
+    if (avail > 0 && wide > avail) {
+      m.style.fontSize = (100 * Math.max(0.55, avail / wide - 0.01)).toFixed(1) + '%';
+    }
+  }
+  // what fits in a third of a page stays whole; what is longer may break across pages
+  // (a long code block split, rather than a half-empty page and an empty frame)
+  // (a box's inner block is never kept whole on its own: moved to the next page, it would
+  // leave its box's frame empty on this one)
+  for (const el of article.querySelectorAll('div.cell, div.cell_input, div.cell_output, div.math, mjx-container[display="true"], img, .plotly-graph-div, table')) {
+    // a picture is never split: it and its output box stay whole when they fit on a page
+    const picture = el.matches('img, .plotly-graph-div') || !!el.querySelector('img, .plotly-graph-div');
+    el.classList.toggle('course-keep', el.getBoundingClientRect().height < (picture ? 900 : 380));
+  }
+  // a heading stays with the start of what it heads: heading and next block kept together
+  // (in one box that is not split), or with the first lines of a long one
+  for (const h of article.querySelectorAll('h2, h3, h4')) {
+    if (h.parentElement.classList.contains('course-head-keep')) continue;
+    const next = h.nextElementSibling;
+    if (!next || next.matches('section')) continue;
+    if (next.getBoundingClientRect().height > 560) { next.classList.remove('course-keep'); continue; }
+    const box = document.createElement('div');
+    box.className = 'course-head-keep';
+    h.before(box);
+    box.append(h, next);
   }
   const chapters = [...document.querySelectorAll('section.course-chapter')];
   const entries = [];
@@ -1072,7 +1224,7 @@ PRINT_PREPARE = r"""(numbers) => {
     if (!title) continue;
     entries.push({level: 1, id: c.id, text: title.textContent.replace('#', '').trim()});
     for (const s of c.querySelectorAll(':scope > section')) {
-      const h = s.querySelector(':scope > h2, :scope > h3');
+      const h = s.querySelector(':scope > h2, :scope > h3, :scope > .course-head-keep > h2, :scope > .course-head-keep > h3');
       if (h && s.id) entries.push({level: 2, id: s.id, text: h.textContent.replace('#', '').trim()});
     }
   }
@@ -1102,20 +1254,30 @@ PRINT_CSS = """
 #course-print-toc li.toc-l1 { font-weight: 600; margin-top: 0.6em; }
 #course-print-toc li.toc-l2 { padding-left: 1.5em; font-size: 0.92em; }
 #course-print-toc .p { min-width: 2.5em; text-align: right; }
-.bd-article img { max-width: 100% !important; height: auto; break-inside: avoid; }
-.cell_output img { break-inside: avoid; }
-/* a code box or an output stays on one page when it fits; a heading stays with its text */
-.bd-article div.highlight, .bd-article .cell_output .output, .bd-article div.math,
-.bd-article table { break-inside: avoid; }
+.bd-article img { max-width: 100% !important; height: auto; }
+/* what fits in a third of a page stays whole (course-keep, set when printed: PRINT_PREPARE);
+   a longer code block or table breaks across pages rather than leave half a page empty */
+.bd-article .course-keep, .bd-article tr, .course-head-keep { break-inside: avoid; }
 .bd-article h1, .bd-article h2, .bd-article h3, .bd-article h4 { break-after: avoid; break-inside: avoid; }
+.bd-article pre.course-lines > span.cl { break-inside: avoid; }
+.bd-article div.cell_input:not(.course-keep) div.highlight, .bd-article div.cell_input:not(.course-keep) pre,
+.bd-article div.cell_output:not(.course-keep) div.highlight, .bd-article div.cell_output:not(.course-keep) pre,
+.bd-article div.cell_output:not(.course-keep) div.output { break-inside: auto !important; }
+.bd-article .course-empty { display: none !important; }
 #jb-print-docs-body #print-main-content { display: none !important; }  /* ours is below */
 /* the figures' play buttons, slider and toolbar do nothing on paper */
 .js-plotly-plot .updatemenu-container, .js-plotly-plot .slider-container,
 .js-plotly-plot .modebar-container { display: none !important; }
-/* a cell's box (code, then its output) is not split when it fits on a page; a heading is
-   never the last line of a page */
-.bd-article div.cell, .bd-article div.cell_input { break-inside: avoid; }
-.bd-article h2 + *, .bd-article h3 + *, .bd-article h4 + * { break-before: avoid; }
+/* a table keeps within the page: its columns share the width, its words wrap, its text a
+   little smaller (wide inline maths is set smaller to fit: PRINT_PREPARE) */
+.bd-article .pst-scrollable-table-container { overflow: visible !important; }
+.bd-article table { width: 100% !important; max-width: 100% !important; table-layout: fixed;
+  font-size: 0.86em; }
+.bd-article table th, .bd-article table td { overflow-wrap: anywhere; white-space: normal !important;
+  hyphens: auto; padding: 0.3em 0.4em !important; }
+.bd-article table code { white-space: normal !important; overflow-wrap: anywhere; }
+.bd-article table:has(th:nth-child(3)) th:first-child { width: 20%; }
+section.course-close { break-before: page; }
 section.course-solutions { break-before: page; }
 .course-solution-printed { margin-bottom: 1.2em; }
 p.course-solution-ref { font-size: 0.92em; border-left: 3px solid #999; padding-left: 0.5em; }
@@ -1124,6 +1286,23 @@ p.course-solution-ref { font-size: 0.92em; border-left: 3px solid #999; padding-
 /* a figure's code that is not the point stays out of print, as it stays folded on screen */
 details.hide.above-input { display: none !important; }
 """
+
+
+# Text that runs past the printed column's right edge: a table cell, a formula or a code
+# line wider than the column (Chromium cuts it off at the paper's edge).
+PAST_MARGIN = r"""() => {
+  const article = document.querySelector('.bd-article') || document.body;
+  const right = article.getBoundingClientRect().right + 2;
+  const past = [];
+  for (const el of article.querySelectorAll('td, th, mjx-container, pre, img, .plotly-graph-div, p, li')) {
+    if (!el.getClientRects().length || el.closest('.course-empty, details.hide.above-input')) continue;
+    const r = el.getBoundingClientRect();
+    if (r.width > 0 && r.right > right && !el.querySelector('td, th, p, li'))
+      past.push(`${el.tagName.toLowerCase()} ${Math.round(r.right - right + 2)} px past: ` +
+                (el.textContent || '').trim().replace(/\s+/g, ' ').slice(0, 60));
+  }
+  return past;
+}"""
 
 
 def chromium_executable():
@@ -1214,11 +1393,17 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
                            'title.text': String((d.layout.title && d.layout.title.text) || d.layout.title || '')
                              .replace(/^Turn it:\\s*/, ''),
                            // set for a projected slide; on a column of paper a third smaller
-                           'title.font.size': 15, 'legend.font.size': 13, 'font.size': 13,
+                           // and dark: plotly's grey is too light on paper
+                           'title.font.size': 16, 'legend.font.size': 15, 'font.size': 15,
+                           'font.color': '#111', 'title.font.color': '#111', 'legend.font.color': '#111',
                            'margin.b': 10, 'legend.bgcolor': 'rgba(255,255,255,0.85)',
-                           ...Object.fromEntries(['xaxis', 'yaxis', 'zaxis'].flatMap(a => [
-                             [`scene.${a}.tickfont.size`, 11], [`scene.${a}.title.font.size`, 13],
-                             [`scene.${a}.nticks`, 4]]))}) : null))""")
+                           ...Object.fromEntries(Object.keys(d._fullLayout).filter(k => /^scene\\d*$/.test(k))
+                             .flatMap(sc => ['xaxis', 'yaxis', 'zaxis'].flatMap(a => [
+                               [`${sc}.${a}.tickfont.size`, 14], [`${sc}.${a}.tickfont.color`, '#111'],
+                               [`${sc}.${a}.title.font.size`, 16], [`${sc}.${a}.title.font.color`, '#111'],
+                               [`${sc}.${a}.gridcolor`, '#bbb'], [`${sc}.${a}.nticks`, 4]])))}) : null))""")
+        page.evaluate("html => { if (!document.getElementById('course-print-close')) "
+                      "document.body.insertAdjacentHTML('beforeend', html); }", closing_page())
         titles = page.evaluate(PRINT_PREPARE, None)
         options = dict(format="A4", print_background=True, outline=True, tagged=True,
                        display_header_footer=True, header_template=header,
@@ -1232,7 +1417,10 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
         numbers = {"toc": _heading_pages(pages, titles["toc"], at),
                    "sols": _heading_pages(pages, titles["sols"], at)}
         page.evaluate(PRINT_PREPARE, numbers)
+        # what would run past the right margin (and be cut off on paper), for the tests
+        past = page.evaluate(PAST_MARGIN)
         page.pdf(path=str(tmp), **options)
+        _write_if_changed(pdf.with_name(pdf.name + ".past-margin.json"), json.dumps(past, indent=1))
         os.replace(tmp, pdf)
         stamp.write_text(key)
     finally:

@@ -33,7 +33,7 @@
       cover.style.bottom = controls.length ? (holder.clientHeight - Math.min(...controls)) + "px" : "0";
       done.style.bottom = cover.style.bottom;
     };
-    whenDrawn(fig, place);
+    whenDrawn(fig, () => { place(); if (fig.on) fig.on("plotly_afterplot", place); });
   }
 
   function whenDrawn(fig, then, tries = 0) {
@@ -41,28 +41,64 @@
     else if (tries < 100) setTimeout(() => whenDrawn(fig, then, tries + 1), 200);
   }
 
-  /* On a narrow screen a figure's title is broken into lines that fit, in a smaller font. */
-  function fitTitle(fig) {
+  /* A 3-D figure is laid out for the width it has on the page (its layout was made for a
+     projected slide, as tools/book.py relays it out for paper): smaller fonts and fewer
+     ticks, room under the slider for its numbers, the current value clear of the buttons;
+     on a phone the legend goes above the scene, and a long title is broken into lines. */
+  function fitFigure(fig) {
     whenDrawn(fig, () => {
+      if (!window.Plotly || fig.dataset.courseFitted) return;
+      fig.dataset.courseFitted = "1";
+      const L = fig._fullLayout, w = fig.clientWidth, phone = w < 560;
+      const f = phone ? 10 : 12;
+      const upd = {"font.size": f + 1, "legend.font.size": f + 1, "margin.l": 4, "margin.r": 4};
+      let top = (L.margin && L.margin.t) || 60, extra = 0;
       const title = fig.layout && fig.layout.title;
       const text = title && (typeof title === "string" ? title : title.text);
-      if (!text || text.includes("<br>") || !window.Plotly) return;
-      const perLine = Math.max(20, Math.floor(fig.clientWidth / 8));
-      const lines = [""];
-      for (const word of text.split(" ")) {
-        const last = lines[lines.length - 1];
-        if (last && (last + " " + word).replace(/<[^>]+>/g, "").length > perLine) lines.push(word);
-        else lines[lines.length - 1] = last ? last + " " + word : word;
+      if (text && !text.includes("<br>") && phone) {
+        const perLine = Math.max(20, Math.floor(w / 8));
+        const lines = [""];
+        for (const word of text.split(" ")) {
+          const last = lines[lines.length - 1];
+          if (last && (last + " " + word).replace(/<[^>]+>/g, "").length > perLine) lines.push(word);
+          else lines[lines.length - 1] = last ? last + " " + word : word;
+        }
+        if (lines.length > 1) { upd["title.text"] = lines.join("<br>"); top = Math.max(top, 18 * lines.length + 20); }
       }
-      if (lines.length < 2) return;
-      const top = (fig._fullLayout.margin && fig._fullLayout.margin.t) || 60;
-      window.Plotly.relayout(fig, {"title.text": lines.join("<br>"), "title.font.size": 13,
-                                   "margin.t": Math.max(top, 18 * lines.length + 20)});
+      upd["title.font.size"] = phone ? 13 : 15;
+      for (const sc of Object.keys(L).filter(k => /^scene\d*$/.test(k))) {
+        for (const a of ["xaxis", "yaxis", "zaxis"]) {
+          upd[`${sc}.${a}.tickfont.size`] = f;
+          upd[`${sc}.${a}.title.font.size`] = f + 2;
+          upd[`${sc}.${a}.nticks`] = phone ? 3 : 5;
+        }
+      }
+      if (L.showlegend !== false && phone) {
+        Object.assign(upd, {"legend.orientation": "h", "legend.x": 0, "legend.xanchor": "left",
+                            "legend.y": 1, "legend.yanchor": "bottom", "legend.font.size": f});
+        extra += 66;
+      }
+      if (L.sliders && L.sliders.length) {
+        upd["sliders[0].font.size"] = phone ? 9 : 11;
+        upd["sliders[0].currentvalue.font.size"] = f + 1;
+        upd["sliders[0].currentvalue.xanchor"] = "right";
+        upd["margin.b"] = ((L.margin && L.margin.b) || 0) + 36;
+        extra += 36;
+      }
+      if (L.updatemenus && L.updatemenus.length) upd["updatemenus[0].font.size"] = f;
+      upd["margin.t"] = top + (phone && L.showlegend !== false ? 66 : 0);
+      upd.height = (L.height || fig.clientHeight) + extra;
+      // the figure's box was sized for its first layout: it grows with it
+      for (const box of [fig, fig.parentElement]) {
+        if (box && box.style.height && !box.classList.contains("cell_output")) box.style.height = upd.height + "px";
+      }
+      window.Plotly.relayout(fig, upd);
     });
   }
 
-  /* A display formula wider than the column is set smaller until it fits (down to half
-     its size), so that it keeps its equation number in view; one wider still scrolls. */
+  /* A display formula wider than the column is set smaller until it fits (down to 80% of
+     its size, still readable), so that it keeps its equation number in view; one wider
+     still scrolls in its own box. Inline maths wider than its line scrolls in its own box. */
   function fitFormulas() {
     for (const m of document.querySelectorAll('.bd-article mjx-container[display="true"]')) {
       if (m.dataset.courseSize === undefined) m.dataset.courseSize = m.style.fontSize || "";
@@ -72,14 +108,48 @@
       const over = Math.max(m.scrollWidth, m.offsetWidth) / avail;
       if (over > 1.01) {
         const base = parseFloat(m.dataset.courseSize) || 100;
-        m.style.fontSize = (base * Math.max(0.5, 1 / over - 0.01)).toFixed(1) + "%";
+        m.style.fontSize = (base * Math.max(0.8, 1 / over - 0.01)).toFixed(1) + "%";
       }
+      m.classList.toggle("course-scrolls", Math.max(m.scrollWidth, m.offsetWidth) > avail + 1);
+    }
+    for (const m of document.querySelectorAll('.bd-article mjx-container:not([display="true"])')) {
+      m.classList.remove("course-wide-inline");
+      const box = m.closest("p, li, td, th, dd, div") || m.parentElement;
+      if (!box) continue;
+      const b = box.getBoundingClientRect(), r = m.getBoundingClientRect();
+      if (r.width > b.width - 2 || r.right > b.right + 1) m.classList.add("course-wide-inline");
+    }
+  }
+
+  /* The colour-mode button switches between light and dark (the theme's third state,
+     "auto", looks like one of them, so a click could seem to do nothing); its name says
+     what a click does. */
+  function themeToggle() {
+    const root = document.documentElement;
+    const label = btn => {
+      const now = root.dataset.theme === "dark" ? "dark" : "light";
+      const next = now === "dark" ? "light" : "dark";
+      btn.setAttribute("aria-label", `Colour mode: ${now}. Switch to ${next}`);
+      btn.setAttribute("title", `Switch to ${next} mode`);
+    };
+    for (const btn of document.querySelectorAll(".theme-switch-button")) {
+      label(btn);
+      btn.addEventListener("click", event => {
+        event.stopImmediatePropagation();
+        event.preventDefault();
+        const next = root.dataset.theme === "dark" ? "light" : "dark";
+        root.dataset.mode = next;
+        root.dataset.theme = next;
+        try { localStorage.setItem("mode", next); localStorage.setItem("theme", next); } catch (e) { /* private window */ }
+        document.querySelectorAll(".theme-switch-button").forEach(label);
+      }, true);
     }
   }
 
   function ready() {
     document.documentElement.dataset.courseScript = "1";
-    if (narrow()) document.querySelectorAll(".plotly-graph-div").forEach(f => { fitTitle(f); shield(f); });
+    themeToggle();
+    document.querySelectorAll(".plotly-graph-div").forEach(f => { fitFigure(f); if (narrow()) shield(f); });
     let tries = 0;
     const typeset = () => {
       const mj = window.MathJax && window.MathJax.startup && window.MathJax.startup.promise;
@@ -115,7 +185,7 @@
     const at = m ? m.index : 0;
     const from = Math.max(0, at - 90), to = Math.min(text.length, at + 150);
     let s = esc(text.slice(from, to));
-    s = s.replace(new RegExp(re.source, "gi"), w => "<mark>" + w + "</mark>");
+    if (m) s = s.replace(new RegExp(re.source, "gi"), w => "<mark>" + w + "</mark>");
     return (from > 0 ? "… " : "") + s + (to < text.length ? " …" : "");
   }
 
@@ -127,17 +197,21 @@
     document.querySelectorAll("#search-documentation input[name=q], .bd-search input[name=q]")
       .forEach(input => { if (!input.value) input.value = q; });
     if (!q) return;
+    // the index keeps maths as Unicode (π, θ): a word typed for a letter finds it too
+    const GREEK = {pi: "π", theta: "θ", omega: "ω", phi: "φ", varphi: "φ", tau: "τ", alpha: "α",
+                   beta: "β", epsilon: "ε", eps: "ε", lambda: "λ", sigma: "σ", psi: "ψ", delta: "δ"};
+    const pattern = w => GREEK[w] ? `(?:${reEsc(w)}|${GREEK[w]})` : reEsc(w);
     const words = q.toLowerCase().split(/\s+/).filter(w => w.length > 0);
-    const phrase = new RegExp(reEsc(q.toLowerCase()).replace(/\s+/g, "\\s+"), "gi");
-    const each = words.map(w => new RegExp(reEsc(w), "gi"));
+    const phrase = new RegExp(words.map(pattern).join("\\s+"), "gi");
+    const each = words.map(w => new RegExp(pattern(w), "gi"));
     const hits = [];
     for (const e of index) {
       const text = e.x, title = e.t;
       let score = 0, re = phrase;
       const inText = count(text, phrase), inTitle = count(title, phrase);
       if (inText + inTitle > 0) score = inText + 5 * inTitle + 0.5;
-      else if (words.length > 1 && each.every(r => count(text + " " + title, r) > 0)) {
-        score = Math.min(...each.map(r => count(text, r) + 5 * count(title, r)));
+      else if (words.length > 1 && each.every(r => count(text + " " + title + " " + e.c, r) > 0)) {
+        score = Math.min(...each.map(r => count(text, r) + 5 * count(title, r) + 0.5 * Math.min(1, count(e.c, r))));
         re = each[0];
       }
       if (score > 0) hits.push({e, score, re});

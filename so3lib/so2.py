@@ -108,7 +108,9 @@ def log(R, tau=1.0, check=True, tol=ROTATION_TOL):
     atan2 returns the double ``-np.pi`` on the cut (``R[1, 0]`` the float ``-0.0``,
     ``R[0, 0] < 0``) and next to it (a negative ``R[1, 0]`` up to about 3.4e-16 in size,
     so small that :math:`-\pi + |R_{21}|` rounds to that double); ``np.pi`` is returned
-    instead, the same half-turn to within 5e-16 rad (two ulps of pi).
+    instead: the same half-turn, since modulo :math:`2\pi` the two doubles are
+    :math:`2(\pi - \mathrm{fl}(\pi)) \approx 2.45\cdot10^{-16}` rad apart, about 0.55 of an ulp
+    of pi (one ulp of pi, the gap between neighbouring doubles there, is 4.4e-16).
 
     Parameters
     ----------

@@ -57,6 +57,7 @@ def main(argv=None):
     ap.add_argument("--students", type=int, default=3)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--timeout", type=int, default=60)
+    ap.add_argument("--verbose", action="store_true", help="print each notebook's time")
     args = ap.parse_args(argv)
     notebooks = [p for p in course_notebooks()
                  if any(assignments.ANSWER in assignments.tags(c) for c in read(p).cells)]
@@ -76,7 +77,7 @@ def main(argv=None):
                 count += 1
         t0 = time.monotonic()
         rows = grade.grade(submitted, course, timeout=args.timeout, out=root / "grades.csv",
-                           log=lambda *a: None, jobs_at_once=args.jobs)
+                           log=print if args.verbose else (lambda *a: None), jobs_at_once=args.jobs)
         spent = time.monotonic() - t0
     problems = [r for r in rows if r.get("problem")]
     per = spent / count

@@ -289,10 +289,11 @@ def grade(submitted, course=COURSE, timeout=DEFAULT_TIMEOUT, notebook_timeout=No
         try:
             proc.stdin.write(f"{student}\t{assignment}\n")
             proc.stdin.flush()
-            ready = select.select([proc.stdout], [], [], notebook_timeout + 120)[0]
+            # a notebook may be run twice (tools/trusted_grader.py: the full run after a pruned one)
+            ready = select.select([proc.stdout], [], [], 2 * notebook_timeout + 120)[0]
             line = proc.stdout.readline() if ready else ""
             reply = json.loads(line) if line else {"ok": False, "why": f"grading stopped after "
-                                                               f"{notebook_timeout} s"}
+                                                               f"{2 * notebook_timeout + 120} s"}
         except (OSError, ValueError) as err:
             reply = {"ok": False, "why": f"the grading worker stopped ({type(err).__name__})"}
         if not reply.get("ok"):

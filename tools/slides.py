@@ -455,6 +455,10 @@ def measure_open(d, screenshots=None, screens=SCREENS):
             old.unlink()
         for k, m in enumerate(slides, 1):
             goto(page, m["h"], m["v"])
+            # fragments fade in (a fifth of a second): the picture is taken once they are in
+            page.evaluate("() => Promise.all(document.getAnimations().map(a => a.finished))")
+            page.wait_for_function("() => [...document.querySelectorAll('.present .fragment.visible:not([class*=fade-out]):not([class*=highlight])')]"
+                                   ".every(f => getComputedStyle(f).opacity === '1')")
             m["shot"] = str(Path(screenshots) / f"{k:02d}_{m['h']}-{m['v']}.png")
             page.screenshot(path=m["shot"])
     else:

@@ -205,6 +205,209 @@ def figure_cells(cells, figures):
     return skip
 
 
+# Calls and statements after which a handed-out cell always runs in full: what they change
+# cannot be read off the names in the code.
+_OPAQUE_CALLS = {"exec", "eval", "compile", "globals", "locals", "vars", "setattr", "delattr",
+                 "__import__", "get_ipython", "open", "input", "breakpoint"}
+
+
+def _root(node):
+    """The name at the root of an attribute or subscript chain (x in x.a[0].b), or None."""
+    while isinstance(node, (ast.Attribute, ast.Subscript, ast.Starred)):
+        node = node.value
+    return node.id if isinstance(node, ast.Name) else None
+
+
+def _chain(node):
+    """The attribute names along a call's function (np.random.seed: random, seed)."""
+    names = []
+    while isinstance(node, (ast.Attribute, ast.Subscript)):
+        if isinstance(node, ast.Attribute):
+            names.append(node.attr)
+        node = node.value
+    return names
+
+
+def _rebinds(node):
+    """The names a top-level statement always binds to a new object (x = ..., def x,
+    import x): what it held before is not seen after."""
+    targets = []
+    if isinstance(node, ast.Assign):
+        targets = node.targets
+    elif isinstance(node, ast.AnnAssign) and node.value is not None:
+        targets = [node.target]
+    elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+        return {node.name}
+    elif isinstance(node, (ast.Import, ast.ImportFrom)):
+        return {(a.asname or a.name).split(".")[0] for a in node.names if a.name != "*"}
+    names = set()
+    for t in targets:
+        parts = t.elts if isinstance(t, (ast.Tuple, ast.List)) else [t]
+        for part in parts:
+            part = part.value if isinstance(part, ast.Starred) else part
+            if isinstance(part, ast.Name):
+                names.add(part.id)
+    return names
+
+
+def _scopes(code):
+    """(global names CODE binds, global names it reads): at its top level, and inside its
+    functions, classes and comprehensions (their parameters and locals left out)."""
+    binds, top, inner = _scopes3(code)
+    return binds, top | inner
+
+
+def _scopes3(code):
+    """(global names CODE binds, reads at its top level, reads inside its functions,
+    classes and comprehensions)."""
+    import symtable
+    binds, top_reads, inner_reads = set(), set(), set()
+    todo = [symtable.symtable(code, "<cell>", "exec")]
+    while todo:
+        table = todo.pop()
+        top = table.get_type() == "module"
+        for sym in table.get_symbols():
+            if top or sym.is_global():
+                if sym.is_referenced():
+                    (top_reads if top else inner_reads).add(sym.get_name())
+                if top and (sym.is_assigned() or sym.is_imported()):
+                    binds.add(sym.get_name())
+        todo += table.get_children()
+    return binds, top_reads, inner_reads
+
+
+def _changes(node, modules, statement):
+    """The names whose objects running NODE may change in place: x in x.a = .., x[i] = ..,
+    x.method(..) (a module's only through np.random or as a statement of its own, such as
+    plt.show()), and f(x) (a callee may change its argument). Function bodies run later,
+    when called: their changes belong to the call."""
+    changed, todo = set(), [node]
+    while todo:
+        sub = todo.pop()
+        if isinstance(sub, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+            todo += [d for d in getattr(sub, "decorator_list", [])]
+            todo += [d for d in sub.args.defaults + sub.args.kw_defaults if d is not None]
+            continue
+        if isinstance(sub, (ast.Attribute, ast.Subscript)) and isinstance(sub.ctx, (ast.Store, ast.Del)):
+            if (r := _root(sub)) is not None:
+                changed.add(r)
+        elif isinstance(sub, ast.Call):
+            if isinstance(sub.func, ast.Attribute) and (r := _root(sub.func)) is not None and (
+                    r not in modules or "random" in _chain(sub.func) or statement is sub):
+                changed.add(r)
+            for arg in [*sub.args, *(k.value for k in sub.keywords)]:
+                if (r := _root(arg)) is not None and r not in modules:
+                    changed.add(r)
+        todo += list(ast.iter_child_nodes(sub))
+    return changed
+
+
+def _statement(node, modules):
+    """(names STATEMENT may bind or change, names it reads), or None when it must run
+    whatever is needed (it reaches state the names do not show)."""
+    if isinstance(node, (ast.Global, ast.Nonlocal, ast.Delete)):
+        return None
+    for sub in ast.walk(node):
+        if isinstance(sub, (ast.Global, ast.Nonlocal)):
+            return None
+        if isinstance(sub, ast.Call) and isinstance(sub.func, ast.Name) and sub.func.id in _OPAQUE_CALLS:
+            return None
+    try:
+        binds, reads = _scopes(ast.unparse(node))
+    except SyntaxError:
+        return None
+    expr = node.value if isinstance(node, ast.Expr) else None
+    return binds | _changes(node, modules, expr), reads
+
+
+def _readable(source, modules):
+    """(statements, their (binds, reads)) of a code cell, or None when what it reads or
+    changes cannot be told from its names: IPython syntax (magics, !shell), exec, eval,
+    globals(), open, global, del. A cell with two statements on one line or a decorator
+    is one statement here (it runs whole or not at all)."""
+    try:
+        transformed = _python(source)
+        tree = ast.parse(transformed)
+    except SyntaxError:
+        return None
+    if transformed.rstrip("\n") != source.rstrip("\n"):
+        return None
+    body = tree.body
+    infos = [_statement(node, modules) for node in body]
+    if any(info is None for info in infos):
+        return None
+    if any(a.end_lineno >= b.lineno for a, b in zip(body, body[1:])) or \
+            any(getattr(n, "decorator_list", None) for n in body):
+        whole = ast.Module(body=[ast.Pass(lineno=1, col_offset=0, end_lineno=len(source.splitlines()) or 1,
+                                          end_col_offset=0)], type_ignores=[])
+        binds = set().union(*(b for b, _ in infos))
+        reads = set().union(*(r for _, r in infos))
+        return whole.body, [(binds, reads)]
+    return body, infos
+
+
+def run_plan(cells, handed_out, learner):
+    """What of each code cell to run when grading: {index: code}; a cell not in it is not
+    run. Answer and test cells, and the cells the learner wrote or changed, run in full.
+    A cell handed out unchanged (its source in HANDED_OUT) runs only the statements that
+    the grade may depend on. Going back from the last test: at each test, the names its
+    visible part reads, the learner's names (LEARNER) and what the learner's functions
+    read when called are needed; a statement is kept when it may bind or change a needed
+    name (x = .., def x, import x, x.a = .., x[i] = .., x.method(..), f(x), a draw from
+    a random generator), and then what it reads is needed, what it binds anew no longer.
+    A cell whose effects its names cannot show (magics, exec, global, open, ...) runs in
+    full, with every cell before it. So drawing the figures and the notebook's own checks,
+    most of a notebook's time, is left out when nothing graded depends on them."""
+    import builtins
+    safe_builtins = set(dir(builtins)) - _OPAQUE_CALLS
+    code = {i: c for i, c in enumerate(cells) if c.get("cell_type") == "code"}
+    modules, answer_reads = set(), set()
+    for c in code.values():
+        try:
+            tree = ast.parse(_python(c.source))
+        except SyntaxError:
+            continue
+        modules |= {(a.asname or a.name).split(".")[0] for sub in ast.walk(tree)
+                    if isinstance(sub, ast.Import) for a in sub.names}
+        if is_answer(c):            # what the learner's functions read when called
+            answer_reads |= _scopes3(ast.unparse(tree))[2]
+    plan, needed, everything = {}, set(), False
+    for i in sorted(code, reverse=True):
+        cell = code[i]
+        if everything:
+            plan[i] = cell.source
+            continue
+        if is_test(cell):
+            visible = _readable(split_test(cell.source)[0], modules)
+            if visible is None:
+                everything = True
+            else:
+                needed |= {n for _, reads in visible[1] for n in reads}
+            needed |= set(learner) | answer_reads
+            plan[i] = cell.source
+            continue
+        readable = _readable(cell.source, modules)
+        if readable is None:
+            plan[i] = cell.source
+            everything = True
+            continue
+        body, infos = readable
+        if is_answer(cell) or cell.source not in handed_out:
+            plan[i] = cell.source
+            for node, (binds, reads) in zip(reversed(body), reversed(infos)):
+                needed = (needed - _rebinds(node)) | (reads - safe_builtins)
+            continue
+        kept = []
+        for node, (binds, reads) in zip(reversed(body), reversed(infos)):
+            if binds & needed:
+                kept.append(node)
+                needed = (needed - _rebinds(node)) | (reads - safe_builtins)
+        if kept:
+            lines = cell.source.splitlines()
+            plan[i] = "\n".join("\n".join(lines[n.lineno - 1:n.end_lineno]) for n in reversed(kept))
+    return plan
+
+
 # --- stand-ins for the learner's names ---------------------------------------------------
 
 class StudentError(Exception):
@@ -538,7 +741,29 @@ class NotebookRun:
                 values |= set(v)
         figures = {c.source for c in source.cells
                    if c.cell_type == "code" and "hide-input" in c.metadata.get("tags", [])}
+        handed_out = {c.source for c in source.cells
+                      if c.cell_type == "code" and not is_answer(c) and not is_test(c)}
         skip = figure_cells(self.nb.cells, figures)
+        full = {i: c.source for i, c in enumerate(self.nb.cells)
+                if c.cell_type == "code" and i not in skip}
+        # first only what the grade depends on (run_plan); a notebook that loses a point
+        # that way, other than for a stub or a time limit, is graded again with every cell
+        # run (but the figures nothing reads), and that run decides
+        plan = run_plan(self.nb.cells, handed_out, funcs | values)
+        cells = [from_dict(c) for c in self.nb.cells]
+        failed = self._run(plan, reference, stubs, funcs, values)
+        if failed and plan != full:
+            self.nb.cells = cells
+            self.done = []
+            self._run(full, reference, stubs, funcs, values)
+        return self.nb
+
+    def _run(self, plan, reference, stubs, funcs, values):
+        """Run the code cells of PLAN ({index: code}) in a new sandbox, the hidden tests
+        here; the outputs go into self.nb. True when a hidden test failed for a reason
+        other than a stub or a time limit."""
+        from nbformat import from_dict
+        failed = False
         end = time.monotonic() + self.notebook_timeout
         self.box = sandbox.Sandbox(self.files)
         try:
@@ -546,7 +771,7 @@ class NotebookRun:
             for index, cell in enumerate(self.nb.cells):
                 if cell.cell_type != "code":
                     continue
-                if index in skip:
+                if index not in plan:
                     cell.outputs = []
                     continue
                 if time.monotonic() > end:
@@ -557,7 +782,7 @@ class NotebookRun:
                 if is_answer(cell):
                     answers[_meta(cell).get("grade_id")] = cell.source
                 if not is_test(cell):
-                    result = self.box.run(cell.source, self.timeout)
+                    result = self.box.run(plan[index], self.timeout)
                     cell.outputs = [from_dict(o) for o in result["outputs"]]
                     if result["status"] == "timeout":
                         cell.outputs.append(from_dict(_error("CellTimeoutError", f"time limit: the cell ran "
@@ -565,7 +790,7 @@ class NotebookRun:
                     if result.get("killed") or result["status"] == "died":
                         self.restart()
                     elif result["status"] != "timeout":
-                        self.done.append(cell.source)
+                        self.done.append(plan[index])
                     continue
                 visible, hidden = split_test(cell.source)
                 result = self.box.run(visible, self.timeout)
@@ -578,10 +803,12 @@ class NotebookRun:
                 failure = self.hidden_test(hidden, reference, funcs, values, stub)
                 if failure:
                     outputs.append(failure)
+                    # a stub or a time limit is the same whatever else ran
+                    failed = failed or failure["ename"] not in ("NotAnswered", "CellTimeoutError")
                 cell.outputs = [from_dict(o) for o in outputs]
         finally:
             self.box.close()
-        return self.nb
+        return failed
 
     def hidden_test(self, hidden, reference, funcs, values, stub):
         """None when the hidden test passes, else the error output that says why."""

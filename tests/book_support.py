@@ -103,7 +103,9 @@ CUT_OFF = """() => {
     if (!shown(el)) continue;
     const avail = el.parentElement.clientWidth;
     const wide = Math.max(el.scrollWidth, el.offsetWidth) > avail + 1;
-    if (wide && !(ownScroll(el) && el.clientWidth <= avail + 1))
+    const box = [el, el.parentElement].find(b => ownScroll(b) && b.clientWidth <= avail + 1
+                                                && b.getBoundingClientRect().right <= innerWidth + 1);
+    if (wide && !box)
       cut.push('formula wider than its column: ' + text(el));
     const size = parseFloat(getComputedStyle(el).fontSize);
     const body = parseFloat(getComputedStyle(el.closest('article')).fontSize);

@@ -858,7 +858,7 @@ def section_index(out, pages):
         chapter = h1.get_text(" ", strip=True) if h1 else page.stem
         for section in article.select("section[id]"):
             heading = section.find(re.compile(r"^h[1-6]$"))
-            title = heading.get_text(" ", strip=True) if heading else chapter
+            title = re.sub(r"\s+([,.;:!?)])", r"\1", heading.get_text(" ", strip=True)) if heading else chapter
             own = BeautifulSoup(str(section), "html.parser").section
             for sub in own.find_all("section", recursive=False):
                 sub.decompose()

@@ -849,7 +849,9 @@ def section_index(out, pages):
         if article is None:
             continue
         # a figure's folded code is not what a reader searches for; maths is kept as text
+        # (nor is the code of a worked solution, folded under its exercise: its words stay)
         for bad in article.select("script, style, .headerlink, .copybtn, details.hide.above-input, "
+                                  "details.course-solution div.cell_input, "
                                   ".course-figure-shield, .plotly-graph-div, mjx-container"):
             bad.decompose()
         for math in article.select(".math"):

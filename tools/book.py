@@ -1238,7 +1238,7 @@ PRINT_PREPARE = r"""(numbers) => {
   });
   nav.innerHTML = html + '</ol>';
   nav.querySelectorAll('span.t').forEach((t, i) => { t.textContent = entries[i].text; });
-  const solutionTitles = [...document.querySelectorAll('.course-solution-printed > h3')].map(h => h.textContent);
+  const solutionTitles = [...document.querySelectorAll('.course-solution-printed > h3, .course-solution-printed > .course-head-keep > h3')].map(h => h.textContent);
   document.querySelectorAll('p.course-solution-ref').forEach(p => {
     const i = Number(p.dataset.n) - 1;
     p.querySelector('.course-solution-page').textContent = sols[i] ? ', page ' + sols[i] : '';

@@ -39,11 +39,9 @@ def honest(released, found, wrong_one):
 
 
 def _slip(source):
-    import ast
-    tree = ast.parse(assignments._python(source))
-    funcs = [n.name for n in tree.body if isinstance(n, ast.FunctionDef)]
-    values = [t.id for n in tree.body if isinstance(n, ast.Assign) for t in n.targets
-              if isinstance(t, ast.Name)]
+    """Code that, run after the answer SOURCE, makes each name it defines off by half."""
+    from tools.trusted_grader import stub_names
+    funcs, values = stub_names(source)
     lines = ["import numpy as _np"]
     for f in funcs:
         lines += [f"_right_{f} = {f}", f"def {f}(*args, **kwargs):",

@@ -303,6 +303,14 @@ def test_no_solution_in_the_default_deck(decks, name):
     assert not leaked, _fail_list(name, "lines of worked solutions in the default deck", leaked[:10])
 
 
+@pytest.mark.parametrize("name", NAMES)
+def test_no_navigation_line_in_the_deck(decks, name):
+    """The notebook's "Previous: ... Next: ..." line, for moving between files, is not
+    projected (tools/slides.without_navigation)."""
+    text = htmllib.unescape(re.sub(r"<[^>]+>", "", decks[name].read_text()))
+    assert "Previous:" not in text and "of the course. Previous" not in text, name
+
+
 def _pdf_pages(pdf):
     if shutil.which("pdfinfo"):
         out = subprocess.run(["pdfinfo", str(pdf)], capture_output=True, text=True, check=True)

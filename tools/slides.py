@@ -205,6 +205,23 @@ def has_plotly(nb):
                for cell in nb.cells if cell.cell_type == "code" for out in cell.get("outputs", []))
 
 
+# A notebook's navigation line ("**Notebook 04** of the course. Previous: [...](...). Next:
+# [...](...).", at its top and foot) is for the reader who moves between files; a projected
+# deck has no use for it.
+_NAVIGATION = re.compile(r"^(\*\*Notebook \w+\*\* of the course\. )?Previous: \[[^\]]*\]\([^)]*\)\. "
+                         r"Next: \[[^\]]*\]\([^)]*\)\.[ \t]*\n?", re.MULTILINE)
+
+
+def without_navigation(nb):
+    """NB with the navigation lines taken out of its markdown cells (in place)."""
+    for cell in nb.cells:
+        if cell.cell_type == "markdown":
+            source, n = _NAVIGATION.subn("", cell.source)
+            if n:
+                cell.source = re.sub(r"\n{3,}", "\n\n", source).strip("\n")
+    return nb
+
+
 def build(out=OUT, notebooks=None, solutions=False):
     """Write OUT/NN_name.slides.html for each notebook and the assets; returns the paths.
     With solutions=True the decks keep the worked solutions (for after the deadline)."""
@@ -221,7 +238,7 @@ def build(out=OUT, notebooks=None, solutions=False):
         target = out / f"{path.stem}.slides.html"
         key = stamps.key(tooling, path.read_bytes())
         if not stamps.fresh(target.name, key):  # unchanged since the last build: keep it
-            nb = read(path)
+            nb = without_navigation(read(path))
             resources = {"metadata": {"name": path.stem}}
             if has_plotly(nb):  # a figure the learner turns: load the one vendored plotly.js
                 resources["plotly_js"] = f"{VENDOR_DIR}/{vendor.PLOTLY_JS}"
@@ -809,6 +826,19 @@ async () => {
   for (const gd of gds) {
     const w = Math.round(gd.offsetWidth), h = Math.round(gd.offsetHeight);
     if (!w || !h) continue;
+    // Paper has no play button or slider: an animated scene is printed at the middle of its
+    // slider, which the title names, and without the controls.
+    const slider = (gd.layout.sliders || [])[0];
+    const title = String((gd.layout.title && gd.layout.title.text) || gd.layout.title || '');
+    let at = '';
+    if (slider && slider.steps && slider.steps.length) {
+      const step = slider.steps[Math.floor((slider.steps.length - 1) / 2)];
+      await Plotly.animate(gd, step.args[0], {mode: 'immediate', frame: {duration: 0, redraw: true},
+                                              transition: {duration: 0}});
+      at = `${(slider.currentvalue && slider.currentvalue.prefix) || ''}${step.label}`;
+    }
+    await Plotly.relayout(gd, {sliders: [], updatemenus: [], 'margin.b': 10,
+      'title.text': at ? `${title} (printed at ${at})` : title});
     const url = await Plotly.toImage(gd, {format: 'png', width: w, height: h, scale: 2});
     const img = document.createElement('img');
     img.src = url;

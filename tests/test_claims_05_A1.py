@@ -208,3 +208,18 @@ def test_a12_solution_two_failures_just_short_of_a_half_turn():
         th = math.acos((np.trace(R) - 1) / 2)
         assert 5e-9 < (np.pi - 1e-12) - th < 3e-8
         assert 1e-5 < np.linalg.norm(_vee(R - R.T) / (2 * np.sin(th))) < 1e-3
+
+
+def test_a12_plot_near_zero_a_returned_zero_then_rounding_level_at_once():
+    # The alt text of exercise A1.2's figure: near 0 the notes' logarithm (N13 corrected)
+    # returns 0 up to about 2e-8 rad, and just above that its error is at rounding level.
+    def notes_ln(R, tau=1.0):
+        with np.errstate(all="ignore"):
+            sigma = np.arccos((np.trace(R) - 1) / 2) / tau
+            if sigma == 0:
+                return np.zeros(3)
+            return sigma * _vee(R - R.T) / (2 * np.sin(sigma * tau))
+    for th in np.logspace(-12, math.log10(1.5e-8), 12):
+        assert not notes_ln(_exp50(th * _N)).any()
+    for th in np.logspace(math.log10(3e-8), -1, 25):
+        assert np.linalg.norm(notes_ln(_exp50(th * _N)) - th * _N) <= 8 * EPS * th

@@ -66,6 +66,24 @@ def test_00_recipe_factor_jumps_once_arccos_returns_float_pi():
         assert abs(factor(t)[1] - exact) <= tol * exact
 
 
+
+def test_00_recipe_near_pi_loses_up_to_eps_over_4_sin_squared():
+    """00, under the figure "Why it fails near a half-turn": near pi the recipe's relative
+    error reaches about eps / (4 sin^2 t) and stays under twice that (the dashed line of the
+    last figure): about 6e-9 at pi - t = 1e-4, half the digits. The reference is t itself,
+    against which the rotation is written out entry by entry."""
+    def recipe_x(t):
+        c, s = np.cos(t), np.sin(t)
+        th = np.arccos((1.0 + c + c - 1) / 2)
+        return th / (2 * np.sin(th)) * (s - (-s))
+
+    for gap in (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7):
+        ts = np.pi - np.linspace(0.9 * gap, 1.1 * gap, 101)
+        worst = max(abs(recipe_x(t) - t) / t / (EPS / (4 * np.sin(t) ** 2)) for t in ts)
+        assert 0.5 < worst < 2
+    ts = np.pi - np.linspace(0.9e-4, 1.1e-4, 101)
+    assert 3e-9 < max(abs(recipe_x(t) - t) / t for t in ts) < 1e-8
+
 # --- notebook 01 ---------------------------------------------------------------------
 
 def test_01_hat_times_b_is_the_cross_product_for_random_vectors():

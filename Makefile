@@ -27,7 +27,7 @@ NBVAL_OPTS := --nbval --nbval-current-env --nbval-sanitize-with tests/nbval_sani
 help:
 	@echo "make lab      open the course in JupyterLab (sets up .venv the first time)"
 	@echo "make test     run every test: library, notebooks (strict nbval, then make test-portable), editions, browser"
-	@echo "              (FRESH=1: also redo the edition checks that passed before on the same files)"
+	@echo "              (FRESH=1: also run the edition test files that passed before on the same files)"
 	@echo "make test-lib          only the library and checker tests (fast)"
 	@echo "make test-notebooks    only the notebooks, under strict nbval"
 	@echo "make test-portable     strict nbval again with other BLAS kernels and without AVX2/AVX-512 loops"
@@ -74,8 +74,9 @@ lab: $(STAMP)
 # poppler-utils, fonts): each missing one is named with its Debian package; the tests that
 # need it are skipped, or under CI the run stops. Then lint, every test with the notebooks
 # under strict nbval, and the notebooks again under other processors' arithmetic.
-# FRESH=1: redo the slow edition checks that passed before on the same files (the student
-# edition's notebooks, the Binder image: tests/pass_record.py); a fresh clone does anyway.
+# FRESH=1: redo the slow edition test files that passed whole before on the same files
+# (tests/pass_record.py: decks, book, coursework, student edition, Binder, JupyterLab); a
+# fresh clone, and CI, does anyway.
 test: check-test-system $(STAMP) lint
 	$(if $(FRESH),TEST_FRESH=1) $(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) tests $(NOTEBOOKS)
 	@$(MAKE) --no-print-directory test-portable

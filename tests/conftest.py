@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, settings
+from pass_record import REMEMBERED, PassRecord, tree_digest
 
 # Derandomized: the same examples on every run, so CI never flakes; no example database
 # is written into the working tree. HYPOTHESIS_PROFILE=thorough searches harder.
@@ -74,9 +75,85 @@ def _seconds(scope, last):
 def pytest_runtest_logreport(report):
     scope = report.nodeid.split("::", 1)[0]
     _spent[scope] = _spent.get(scope, 0.0) + report.duration
+    name = Path(scope).name
+    if name in REMEMBERED:
+        _outcomes.setdefault(name, set()).add("failed" if report.failed else
+                                              "skipped" if report.skipped else "passed")
+
+
+# --- the slow edition files that passed on the same files (tests/pass_record.py) -----------
+#
+# The controller (or the only process) works out once which of REMEMBERED passed last time
+# on the course's files as they are now, and hands its answer to xdist's workers, so that
+# every process deselects the same tests. At the end of a run of whole files that passed,
+# each such file that ran, with no test failed or skipped, is recorded.
+
+ROOT = Path(__file__).resolve().parent.parent
+_outcomes = {}
+_remember = {}
+
+
+def _whole_files(config):
+    """Whether this run takes whole test files: no -k, -m, --deselect, --lf or node ids."""
+    o = config.option
+    return not (getattr(o, "keyword", "") or getattr(o, "markexpr", "") or getattr(o, "deselect", None)
+                or getattr(o, "lf", False) or any("::" in str(a) for a in config.args))
+
+
+def _remembered(config):
+    """(key, files): the digest of the course's files now, and which REMEMBERED files need
+    not run again (none under CI, TEST_FRESH or a selection of tests)."""
+    if "files" not in _remember:
+        if hasattr(config, "workerinput"):
+            _remember["key"] = config.workerinput.get("remember_key")
+            _remember["files"] = set(config.workerinput.get("remember_files", ()))
+        else:
+            fresh = os.environ.get("TEST_FRESH") or os.environ.get("CI")
+            key = None if fresh else tree_digest(ROOT)
+            record = PassRecord("test-files")
+            _remember["key"] = key
+            _remember["files"] = {f for f in REMEMBERED
+                                  if key and _whole_files(config) and record.fresh(f, key)}
+    return _remember["key"], _remember["files"]
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_configure_node(node):
+    key, files = _remembered(node.config)
+    node.workerinput["remember_key"] = key
+    node.workerinput["remember_files"] = sorted(files)
+
+
+def pytest_collection_modifyitems(config, items):
+    _, files = _remembered(config)
+    drop = [item for item in items if item.path.name in files]
+    if drop:
+        config.hook.pytest_deselected(items=drop)
+        items[:] = [item for item in items if item.path.name not in files]
+
+
+def pytest_terminal_summary(terminalreporter, config):
+    _, files = _remembered(config)
+    if files:
+        terminalreporter.write_line(
+            "not run again, passed before on these same files (tests/pass_record.py; "
+            "make test FRESH=1 runs them): " + ", ".join(sorted(files)))
+
+
+def _record_passed_files(session):
+    key, files = _remembered(session.config)
+    if hasattr(session.config, "workerinput") or not key or session.exitstatus != 0 \
+            or not _whole_files(session.config):
+        return
+    passed = {f: key for f, seen in _outcomes.items() if seen == {"passed"}}
+    if passed:
+        PassRecord("test-files").record(passed)
 
 
 def pytest_sessionfinish(session):
+    _record_passed_files(session)
+    if session.exitstatus == pytest.ExitCode.NO_TESTS_COLLECTED and _remembered(session.config)[1]:
+        session.exitstatus = pytest.ExitCode.OK    # all of it passed before on these files
     if not _loadfile(session.config) or not _spent:
         return
     try:

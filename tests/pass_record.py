@@ -50,3 +50,40 @@ class PassRecord:
         tmp = self.path.with_name(f".{self.path.name}.{os.getpid()}")
         tmp.write_text(json.dumps(self.passed, indent=1, sort_keys=True) + "\n")
         os.replace(tmp, self.path)
+
+
+# --- whole test files that passed on the same files -----------------------------------------
+#
+# The files that build and drive an edition (decks, book, coursework, JupyterLab: REMEMBERED)
+# take most of `make test`. When every test of such a file passed in a run of the whole file
+# and no file of the course has changed since (every file git knows of or would add, by
+# content), the next `make test` does not run it again: conftest.py deselects its tests and
+# says so. A fresh clone (CI), `make test FRESH=1` and any change to any file run it all.
+
+REMEMBERED = ("test_slides.py", "test_book.py", "test_book_laptop.py", "test_book_phone.py",
+              "test_book_pdf.py", "test_assignments.py", "test_grading_sandbox.py",
+              "test_student_edition.py", "test_binder.py", "test_newcomer.py", "test_browser.py",
+              "test_interactive.py")
+
+
+def tree_digest(root):
+    """sha256 of every file of the course under ROOT that git tracks or would add (content
+    and name), the Python version and Chromium's binary; None outside a git checkout."""
+    import subprocess
+    try:
+        listed = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+                                cwd=root, capture_output=True, check=True, timeout=60).stdout
+    except (OSError, subprocess.SubprocessError):
+        return None
+    root = Path(root)
+    h = hashlib.sha256(sys.version.encode())
+    for rel in sorted(set(filter(None, listed.decode().split("\0")))):
+        f = root / rel
+        if f.is_file():
+            h.update(f"\0{rel}\0".encode())
+            h.update(f.read_bytes())
+    for browser in ("/usr/lib/chromium/chromium", "/usr/bin/chromium"):
+        p = Path(browser)
+        if p.is_file():
+            h.update(f"\0{browser}:{p.stat().st_size}:{p.stat().st_mtime_ns}".encode())
+    return h.hexdigest()

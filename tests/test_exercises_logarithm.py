@@ -60,7 +60,7 @@ def test_nan_rotation_says_why_the_identity_gives_zero():
     _says(check_nan_rotation(np.eye(3)), r"guard of \(4\.7\)")
     below = next(P for P in (Q @ Q.T for Q in so3lib.random_rotation(1, 200))
                  if (np.trace(P) - 1) / 2 < 1)
-    _says(check_nan_rotation(below), r"skew part R - R\^T is exactly 0")
+    _says(check_nan_rotation(below), r"R - R\^T \(twice the skew part\) is exactly 0")
     assert "guard" not in repr(check_nan_rotation(below))
 
 
@@ -153,7 +153,7 @@ def _skew_axis(R):
     (lambda R: np.full(3, np.nan), "NaN or inf"),
     (_first_column, "largest diagonal entry"),
     (_signs_from_row_one, "which is not its axis"),
-    (_skew_axis, "skew part R - R\\^T is 0"),
+    (_skew_axis, "R - R\\^T \\(twice the skew part\\) is 0"),
     (_first_nonzero_column, "with rounding noise(.|\\n)*should be 0 \\(or tiny\\)"),
     (_first_column_above, "with rounding noise(.|\\n)*mostly noise"),
     # thresholds of 1e-8 and 1e-6 skip the 1e-9 axis's column, but not that of the axis

@@ -186,7 +186,7 @@ def check_nan_rotation(R_nan):
     rounding = 4 * np.finfo(float).eps              # a few roundings of c
     if not omega.any() and theta <= 1e-12:
         why = ("c = 1 exactly, so sigma = 0 and the guard of (4.7) gives omega = 0" if c == 1
-               else "c is just below 1 and the skew part R - R^T is exactly 0, so n = 0 "
+               else "c is just below 1 and R - R^T (twice the skew part) is exactly 0, so n = 0 "
                     "and omega = 0")
         hint = (f"Your R is the identity to rounding: {why}, correctly. Look for a rotation "
                 "where c = (tr R - 1)/2 can leave [-1, 1] by rounding.")
@@ -410,7 +410,7 @@ def check_halfturn_axis(func):
         if not np.isfinite(a).all():
             return Feedback(False, f"Not yet: {name}. For {label} it returned "
                                    f"{_fmt(a)}, with NaN or inf.\nHint: at a half-turn "
-                                   "the skew part R - R^T is 0, and a column of R + I, "
+                                   "R - R^T (twice the skew part) is 0, and a column of R + I, "
                                    "2 n_j n, is zero when n_j = 0: either gives 0/0. Take "
                                    "the column j with the largest diagonal entry R[j, j]: "
                                    "then 2 n_j^2 = R[j, j] + 1 >= 2/3.")
@@ -732,7 +732,7 @@ def check_principal_log(func):
         if err <= LOG_TOL_45:
             continue
         if not a.any():
-            hint = ("A zero at a half-turn: there the skew part R - R^T is exactly 0 (and "
+            hint = ("A zero at a half-turn: there R - R^T (twice the skew part) is exactly 0 (and "
                     "the float pi's sine is 1.2e-16, not 0), so (4.11) returns 0 without a "
                     "warning. For c < 0 take the axis from the symmetric part, (4.15).")
         else:

@@ -86,7 +86,8 @@ def built():
 # (they wrap: none may scroll), a display formula wider than its column with no scroll of
 # its own (formulas are set smaller until they fit, down to 80%, course.js) or set too small
 # to read, inline maths past its line with no scroll of its own, a table wider than the screen with no scroll of its
-# own, or the page itself wider than the screen. Collapsed blocks are skipped.
+# own, or the page itself wider than the screen; a formula that opens with its start out
+# of reach (left of its column). Collapsed blocks are skipped.
 CUT_OFF = """() => {
   const cut = [];
   const shown = el => !el.closest('details:not([open])') && el.getClientRects().length > 0;
@@ -107,6 +108,10 @@ CUT_OFF = """() => {
                                                 && b.getBoundingClientRect().right <= innerWidth + 1);
     if (wide && !box)
       cut.push('formula wider than its column: ' + text(el));
+    // it opens at its start: nothing of it lies left of its column, out of the scroll's reach
+    const col = (el.closest('div.math') || el.parentElement).getBoundingClientRect();
+    if (el.getBoundingClientRect().left < col.left - 1)
+      cut.push(`formula opens with its start hidden (${Math.round(col.left - el.getBoundingClientRect().left)} px): ` + text(el));
     const size = parseFloat(getComputedStyle(el).fontSize);
     const body = parseFloat(getComputedStyle(el.closest('article')).fontSize);
     if (size < 0.75 * body) cut.push(`formula set at ${size.toFixed(1)} px: ` + text(el));
@@ -172,16 +177,30 @@ TEXT_FIRST = """() => {
 }"""
 
 
-# On a laptop, half way down a chapter, its contents ("Contents" beside the text) are in view.
-TOC_IN_VIEW = """() => {
+# On a laptop, half way down a chapter, its contents ("Contents" beside the text) are in view;
+# and down the chapter, the entry the theme marks as the section being read lies inside the
+# contents' visible box (a list taller than the window scrolls to it): the places where not.
+TOC_IN_VIEW = """async () => {
+  const settle = () => new Promise(done => setTimeout(done, 400));
   window.scrollTo(0, document.documentElement.scrollHeight / 2);
+  await settle();
   const toc = document.querySelector('.bd-sidebar-secondary');
   const r = toc ? toc.getBoundingClientRect() : null;
   const links = toc ? toc.querySelectorAll('a').length : 0;
   const shown = !!r && r.width > 100 && r.top < innerHeight / 2 && r.bottom > innerHeight / 2
                 && getComputedStyle(toc).visibility !== 'hidden';
+  const hidden = [];
+  for (const at of [0.3, 0.6, 0.9]) {
+    window.scrollTo(0, at * (document.documentElement.scrollHeight - innerHeight));
+    await settle();
+    const active = toc && [...toc.querySelectorAll('a.active')].pop();
+    if (!active) continue;
+    const box = toc.getBoundingClientRect(), a = active.getBoundingClientRect();
+    if (a.top < box.top - 1 || a.bottom > Math.min(box.bottom, innerHeight) + 1)
+      hidden.push(`${Math.round(at * 100)}% down: "${active.textContent.trim().slice(0, 40)}" out of view`);
+  }
   window.scrollTo(0, 0);
-  return {shown, links};
+  return {shown, links, hidden};
 }"""
 
 

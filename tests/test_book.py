@@ -149,6 +149,28 @@ def test_landing_page_orients_and_each_chapter_begins_with_its_time_and_goals(pa
             assert "What you will learn" in text, f"{nb_path.name}: goals not at the top"
 
 
+def _minutes(text):
+    m = re.search(r"(?:(\d+)\s*h)?\s*(?:(\d+)\s*min)?", text.strip())
+    return int(m.group(1) or 0) * 60 + int(m.group(2) or 0)
+
+
+def test_the_start_page_gives_each_chapter_the_time_its_own_page_gives(pages, soups):
+    """One source for a chapter's time: the start page's table (and its total) says what
+    the "Time:" line at the top of the chapter's page says."""
+    rows = soups["index.html"].select_one("article table").select("tbody tr")
+    listed = [_minutes(row.find_all("td")[-1].get_text(" ").replace("*", "")) for row in rows]
+    own = []
+    for nb_path in course_notebooks():
+        text = soups[f"{nb_path.stem}.html"].select_one("article").get_text(" ")
+        m = re.search(r"Time:\s+about ((?:\d+ h)?\s*(?:\d+ min)?)", text)
+        assert m, f"{nb_path.name}: no time at the top"
+        own.append(_minutes(m.group(1)))
+    assert listed == own, f"the start page lists {listed} minutes, the chapters say {own}"
+    landing = re.sub(r"\s+", " ", soups["index.html"].select_one("article").get_text(" "))
+    m = re.search(r"In all, about ((?:\d+ h)?\s*(?:\d+ min)?) of reading", landing)
+    assert m and _minutes(m.group(1)) == sum(own), f"the total is not the chapters' sum {sum(own)}"
+
+
 def test_without_a_repository_no_launch_or_repository_button(pages, soups):
     """The book in build/book is built without BOOK_REPOSITORY (as the tests run): no
     launch or repository button, no placeholder URL, and no promise of a rocket button."""
@@ -374,3 +396,36 @@ def test_built_code_lines_start_with_their_indent(pages, soups):
             if indent and not text.startswith(" " * indent):
                 wrong.append(f"{page.name}: {text.strip()[:50]!r} lost its {indent} spaces")
     assert not wrong, "\n".join(wrong[:10])
+
+
+def test_punctuation_stays_on_the_line_of_the_maths_it_touches(pages, soups):
+    """A full stop, comma or colon right after inline maths (or a bracket right before it)
+    shares an unbreakable span with it: no line starts with the "." after a formula."""
+    from bs4 import NavigableString
+    loose = []
+    for page in pages:
+        for math in soups[page.name].select("article span.math"):
+            if math.find_parent(class_="course-nowrap"):
+                continue
+            after, before = math.next_sibling, math.previous_sibling
+            if (isinstance(after, NavigableString) and re.match(r"[.,:;!?)\]]", after)) or \
+                    (isinstance(before, NavigableString) and re.search(r"[(\[]$", before)):
+                loose.append(f"{page.name}: {(before or '')[-10:]!s}{math.get_text()[:30]}{(after or '')[:5]!s}")
+    assert not loose, "punctuation that can wrap away from its formula:\n" + "\n".join(loose[:10])
+
+
+def test_web_addresses_are_links_and_the_footer_and_icon_are_right(pages, soups):
+    """A bare https:// address in the text is a link; the theme's footer reads "By the
+    so3-course authors" (not "By The"); every page names an icon that is there."""
+    out = pages[0].parent
+    for page in pages:
+        soup = soups[page.name]
+        article = soup.select_one("article")
+        for text in article.find_all(string=re.compile(r"https?://")):
+            if text.find_parent(["a", "code", "pre", "script"]) is None:
+                pytest.fail(f"{page.name}: a web address that is not a link: {text.strip()[:80]}")
+        foot = soup.select_one("footer")
+        assert foot is None or "By The " not in foot.get_text(" "), f"{page.name}: footer says 'By The'"
+        icon = soup.select_one('link[rel~="icon"]')
+        assert icon is not None, f"{page.name}: no icon"
+        assert (out / icon["href"]).is_file(), f"{page.name}: its icon {icon['href']} is missing"

@@ -95,6 +95,8 @@ def test_on_a_laptop_a_chapter_keeps_its_contents_in_view(laptop, pages):
     for path in pages[1:]:
         toc = laptop[path.name]["toc"]
         assert toc["shown"] and toc["links"] >= 3, f"{path.name}: no contents in view half way down"
+        assert not toc.get("hidden", ["not measured"]), \
+            f"{path.name}: the contents do not show the section being read: {toc.get('hidden')}"
 
 
 def test_axe_finds_nothing_serious_in_light_or_dark(laptop, pages):

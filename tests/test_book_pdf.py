@@ -118,3 +118,77 @@ def test_the_pdf_ends_with_a_closing_page(pdf):
                           text=True, check=True).stdout
     last = [p for p in text.split("\f") if p.strip()][-1]
     assert "About this course" in last and "CC BY 4.0" in last and "cite" in last, last[:400]
+
+
+def _page_texts(pdf):
+    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    return text.split("\f")
+
+
+@pytest.mark.browser
+def test_the_contents_list_every_chapter_with_its_page(pdf):
+    """The Contents pages list every chapter, each with the page it starts on."""
+    pages = _page_texts(pdf)
+    first = next((n for n, p in enumerate(pages)
+                  if [ln.strip() for ln in p.splitlines() if ln.strip()][1:2] == ["Contents"]), None)
+    assert first is not None, "no page opens with the heading Contents"
+    listing = "\n".join(pages[first:first + 4])
+    flat = _squash(listing)
+    for nb_path in course_notebooks():
+        # a chapter's entry is its title, as its first heading gives it
+        first = next(c.source for c in read(nb_path).cells if c.cell_type == "markdown")
+        m = re.search(r"^#\s+(.+)$", first, re.M)
+        title = re.sub(r"\$[^$]*\$", "", m.group(1)) if m else book.label(read(nb_path), nb_path)
+        assert _squash(title)[:20] in flat, f"the Contents do not list {title}"
+        line = next((ln for ln in listing.splitlines() if _squash(title)[:20] in _squash(ln)
+                     and ln.strip() != book.BOOK_TITLE), "")
+        m = re.search(r"(\d+)\s*$", line)
+        assert m, f"no page number for {title} in the Contents: {line!r}"
+        start = int(m.group(1))
+        assert _squash(title)[:12] in _squash(pages[start - 1]), \
+            f"the Contents send {title} to page {start}, which does not hold it"
+
+
+def _grey_runs(column, shade=247, slack=3):
+    """The runs [top, bottom) of rows whose pixels in COLUMN are all the code box's grey."""
+    runs, top = [], None
+    for y, row in enumerate(column + [None]):
+        grey = row is not None and all(abs(v - shade) <= slack for v in row)
+        if grey and top is None:
+            top = y
+        elif not grey and top is not None:
+            runs.append((top, y))
+            top = None
+    return runs
+
+
+@pytest.mark.browser
+def test_no_empty_piece_of_a_code_box(pdf, tmp_path):
+    """A code box split by a page break has code on both sides: no page ends in a grey box
+    with no text in it (its code moved whole to the next page). (A grey band with no words
+    higher up the page is a blank line of code.)"""
+    from PIL import Image
+    dpi = 40
+    subprocess.run(["pdftoppm", "-r", str(dpi), "-gray", str(pdf), str(tmp_path / "p")], check=True)
+    html = subprocess.run(["pdftotext", "-bbox", str(pdf), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    words = [[(float(a) * dpi / 72, float(b) * dpi / 72) for a, b in re.findall(
+        r'<word xMin="[\d.]+" yMin="([\d.]+)" xMax="[\d.]+" yMax="([\d.]+)">', page)]
+        for page in re.findall(r"<page [^>]*>(.*?)</page>", html, re.S)]
+    images = sorted(tmp_path.glob("p-*.pgm"))
+    assert len(images) == len(words)
+    empty = []
+    for number, (image, found) in enumerate(zip(images, words), 1):
+        im = Image.open(image)
+        w, h = im.size
+        px = im.load()
+        column = [[px[int(w * f), y] for f in (0.3, 0.5, 0.7)] for y in range(h)]
+        for top, bottom in _grey_runs(column):
+            if bottom - top < 12 * dpi / 72:   # thinner than a line of code
+                continue
+            foot = h - 16 / 25.4 * dpi   # the foot of the printed area
+            below = [y0 for y0, y1 in found if y0 >= bottom and y1 < foot]
+            if not below and bottom >= foot - 8 * dpi / 72 and not any(y0 < bottom and y1 > top for y0, y1 in found):
+                empty.append(f"page {number}: an empty grey box {round((bottom - top) * 72 / dpi)} pt tall")
+    assert not empty, "a code box's empty piece:\n" + "\n".join(empty)

@@ -270,9 +270,10 @@ def _number(word):
 
 
 def _prose(nb):
-    """The markdown a learner reads: no speaker notes, solutions, grading or checks."""
+    """The markdown a learner reads: no speaker notes, solutions, grading or checks, nor
+    anything else the book leaves out (is_left_out) or adds (its solution markers)."""
     return [c for c in nb.cells if c.cell_type == "markdown" and not (
-        is_speaker_note(c) or is_solution(c) or is_hidden_test(c) or is_verification(c))]
+        is_left_out(c) or is_solution(c) or c.source in (SOLUTION_BEGIN, SOLUTION_END))]
 
 
 def chapter_time(nb):
@@ -291,8 +292,8 @@ def chapter_time(nb):
         return int(_number(m.group(1)) * (60 if m.group(2).startswith("hour") else 1)), "its own text"
     words = sum(len(re.findall(r"[A-Za-z]+", c.source)) for c in _prose(nb))
     code = sum(1 for c in nb.cells if c.cell_type == "code" and not (
-        is_solution(c) or is_hidden_test(c) or is_verification(c)))
-    exercises = sum(1 for c in nb.cells if "answer" in _tags(c))
+        is_solution(c) or is_left_out(c)))
+    exercises = sum(1 for c in nb.cells if "answer" in _tags(c) and not is_left_out(c))
     minutes = words / 60 + code / 2 + 10 * exercises
     return max(15, int(round(minutes / 15)) * 15), "estimated"
 
@@ -308,15 +309,17 @@ _GOALS = re.compile(r"^#{2,4}\s+What you will learn", re.I)
 _NEEDS = re.compile(r"^#{2,4}\s+What you need first|\*\*You need first:?\*\*", re.I | re.M)
 
 
-def chapter_front(nb):
+def chapter_front(nb, time=None):
     """The book's copy of a chapter begins with its time and its goals: a line with the time
     goes after the title cell, followed by the notebook's own "What you will learn" and
-    "What you need first" cells (moved up when other text stood before them)."""
+    "What you need first" cells (moved up when other text stood before them). TIME: the
+    chapter's (minutes, how it is known), as the start page's table gives it (prepare
+    works it out once, from the notebook, for both)."""
     from nbformat.v4 import new_markdown_cell
     cells = list(nb.cells)
     if not cells:
         return nb
-    minutes, how = chapter_time(nb)
+    minutes, how = time or chapter_time(nb)
     front = [c for c in cells[1:6] if c.cell_type == "markdown" and (
         _GOALS.match(c.source) or _NEEDS.search(c.source))]
     rest = [c for c in cells[1:] if not any(c is f for f in front)]
@@ -339,7 +342,10 @@ def _who_for():
     return "- You know matrices, the cross product, Taylor series and a little NumPy."
 
 
-def landing_page(paths, nbs, repository_url=REPOSITORY_URL):
+def landing_page(paths, nbs, repository_url=REPOSITORY_URL, times=None):
+    """The start page. TIMES: each chapter's (minutes, how it is known), the same that its
+    own page shows (prepare); by default worked out from NBS."""
+    times = list(times) if times is not None else [chapter_time(nb) for nb in nbs]
     questions = _questions()
     c = citation()
     rows = ["| | chapter | the question it answers | time |", "|---|---|---|---|"]
@@ -348,7 +354,7 @@ def landing_page(paths, nbs, repository_url=REPOSITORY_URL):
     for n, (p, nb) in enumerate(zip(paths, nbs), 1):
         q = questions.get(p.stem, "Start here: the course in one page, the set-up, the notation."
                           if p.stem.startswith("00") else "")
-        minutes, how = chapter_time(nb)
+        minutes, how = times[n - 1]
         total += minutes
         estimated = estimated or how == "estimated"
         star = "*" if how == "estimated" else ""
@@ -505,13 +511,16 @@ def book_config(repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
         launch["jupyterhub_url"] = (jupyterhub_url or "").strip()
     return {
         "title": BOOK_TITLE,
-        "author": citation()["authors"],
+        # the theme's footer says "By <author>": "By the so3-course authors"
+        "author": re.sub(r"^The ", "the ", citation()["authors"]),
         "copyright": citation()["date"][:4] or "2026",
         "only_build_toc_files": True,
         "exclude_patterns": ["_build", "**.ipynb_checkpoints", "course_static", "course_extra"],
         "execute": {"execute_notebooks": "off"},
         "parse": {
-            "myst_enable_extensions": ["dollarmath", "amsmath", "colon_fence"],
+            # a bare https:// address in the text is a link (only with its scheme: "README.md"
+            # is no web address)
+            "myst_enable_extensions": ["dollarmath", "amsmath", "colon_fence", "linkify"],
             "myst_dmath_double_inline": True,
         },
         "html": {
@@ -538,6 +547,8 @@ def book_config(repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB_URL):
                 "html_static_path": ["course_static"],
                 "html_extra_path": ["course_extra"],
                 "html_css_files": ["course.css"],
+                "html_favicon": "course_static/favicon.svg",
+                "myst_linkify_fuzzy_links": False,
                 "html_js_files": ["course.js"],
                 "html_sourcelink_suffix": "",
                 "html_show_search_summary": False,  # summaries fetch each page: not from file://
@@ -579,17 +590,19 @@ def prepare(src=SOURCE, repository_url=REPOSITORY_URL, jupyterhub_url=JUPYTERHUB
         if old.is_file() and old.name not in keep:
             old.unlink()  # a notebook renamed or removed
     anchors, slugs = heading_anchors(nbs), heading_slugs(paths, nbs)
-    for p, nb in zip(paths, nbs):
+    # each chapter's time, worked out once: its page and the start page's table show it
+    times = [chapter_time(nb) for nb in nbs]
+    for p, nb, time in zip(paths, nbs, times):
         _write_if_changed(src / p.name, nbformat.writes(
-            chapter_front(learner_copy(nb, anchors, slugs))) + "\n")
-    _write_if_changed(src / "index.md", landing_page(paths, nbs, repository_url))
+            chapter_front(learner_copy(nb, anchors, slugs), time)) + "\n")
+    _write_if_changed(src / "index.md", landing_page(paths, nbs, repository_url, times))
     plotly = _plotly_js()
     # Not "_static": Jupyter Book would load every .js file in that folder into every page.
     static = src / "course_static"
     if (src / "_static").exists():
         shutil.rmtree(src / "_static")
     static.mkdir(parents=True, exist_ok=True)
-    for f in ("course.css", "course.js"):
+    for f in ("course.css", "course.js", "favicon.svg"):
         _write_if_changed(static / f, (STATIC / f).read_bytes())
     # copied as they are to the book's top folder: the licence and the citation, which the
     # footer links
@@ -755,6 +768,37 @@ def line_spans(html):
     if re.sub(r"<[^>]+>", "", "".join(line)):
         end_line("")
     return "".join(out)
+
+
+_CLOSING = re.compile(r"^[.,:;!?)\]\u2019\u201d]+")
+_OPENING = re.compile(r"[(\[\u2018\u201c]+$")
+
+
+def join_maths_punctuation(soup):
+    """Inline maths and the punctuation that touches it ("$[0,\\pi]$." or "($e^x$") go in
+    one span that does not wrap (course.css), so that a line never starts with the full
+    stop or colon after a formula, nor ends with the bracket before one."""
+    from bs4 import NavigableString
+    changed = False
+    for math in soup.select("article span.math"):
+        if math.find_parent(class_="course-nowrap"):
+            continue
+        after, before = math.next_sibling, math.previous_sibling
+        close = _CLOSING.match(after) if isinstance(after, NavigableString) else None
+        open_ = _OPENING.search(before) if isinstance(before, NavigableString) else None
+        if not (close or open_):
+            continue
+        box = soup.new_tag("span", attrs={"class": "course-nowrap"})
+        math.insert_before(box)
+        if open_:
+            before.replace_with(NavigableString(before[:open_.start()]))
+            box.append(NavigableString(open_.group(0)))
+        box.append(math.extract())
+        if close:
+            after.replace_with(NavigableString(after[close.end():]))
+            box.append(NavigableString(close.group(0)))
+        changed = True
+    return changed
 
 
 def wrap_code_lines(soup):
@@ -924,6 +968,7 @@ def postprocess(out, repository_url=REPOSITORY_URL):
         soup = BeautifulSoup(fixed, "html.parser")
         changed = wrap_solutions(soup) or fixed != text
         changed = wrap_code_lines(soup) or changed
+        changed = join_maths_punctuation(soup) or changed
         # The search button's visible text ("Search Ctrl+K") is its accessible name; the
         # theme's aria-label "Search" would contradict it (axe: label-content-name-mismatch).
         for button in soup.select("button.search-button__button[aria-label]"):
@@ -1032,6 +1077,19 @@ CHROMIUM_ARGS = ["--no-sandbox", "--disable-background-networking", "--disable-c
 # list of every notebook and section leads (with page numbers once known).
 PRINT_PREPARE = r"""(numbers) => {
   const toc = (numbers && numbers.toc) || [], sols = (numbers && numbers.sols) || [];
+  // a heading's content, copied (typeset maths included), without its "#" link
+  const headingCopy = h => {
+    const c = h.cloneNode(true);
+    c.querySelectorAll('a.headerlink').forEach(a => a.remove());
+    c.querySelectorAll('[id]').forEach(e => e.removeAttribute('id'));
+    c.querySelectorAll('mjx-container[data-course-size]').forEach(m => {
+      m.style.fontSize = m.dataset.courseSize; });
+    const nodes = [...c.childNodes];
+    while (nodes.length && nodes[nodes.length - 1].nodeType === 3 && !nodes[nodes.length - 1].nodeValue.trim()) nodes.pop();
+    while (nodes.length && nodes[0].nodeType === 3 && !nodes[0].nodeValue.trim()) nodes.shift();
+    if (nodes.length && nodes[0].nodeType === 3) nodes[0].nodeValue = nodes[0].nodeValue.trimStart();
+    return nodes;
+  };
   const article = document.querySelector('.bd-article') || document.body;
   if (!document.body.dataset.coursePaper) {
     document.body.dataset.coursePaper = '1';
@@ -1143,12 +1201,12 @@ PRINT_PREPARE = r"""(numbers) => {
           el = el.parentElement;
           if (el && el.matches('section') && !heading) heading = el.querySelector(':scope > h2, :scope > h3, :scope > h4');
         }
-        const what = heading ? heading.textContent.replace('#', '').trim() : 'the exercise above';
         const item = document.createElement('div');
         item.className = 'course-solution-printed';
         const h3 = document.createElement('h3');
         h3.id = 'course-solution-' + n;
-        h3.textContent = 'Solution to ' + what;
+        // the exercise's title as it reads above the exercise, its maths typeset
+        h3.append('Solution to ', ...(heading ? headingCopy(heading) : ['the exercise above']));
         item.appendChild(h3);
         for (const child of [...d.childNodes]) if (child.nodeName !== 'SUMMARY') item.appendChild(child);
         end.appendChild(item);
@@ -1189,7 +1247,9 @@ PRINT_PREPARE = r"""(numbers) => {
   }
   // wide inline maths (in a table cell, say) is set smaller until it fits its box
   for (const m of article.querySelectorAll('mjx-container:not([display="true"])')) {
-    const box = m.closest('td, th, p, li') || m.parentElement;
+    // (the box is the block it sits in: not its span.math, which the theme makes a flex
+    // box as wide as the formula, so that every formula seemed too wide for it)
+    const box = m.closest('td, th, p, li, dd, dt, h1, h2, h3, h4, h5, h6, div') || m.parentElement;
     if (!box) continue;
     if (m.dataset.courseSize === undefined) m.dataset.courseSize = m.style.fontSize || '';
     m.style.fontSize = m.dataset.courseSize;
@@ -1207,6 +1267,19 @@ PRINT_PREPARE = r"""(numbers) => {
     const picture = el.matches('img, .plotly-graph-div') || !!el.querySelector('img, .plotly-graph-div');
     el.classList.toggle('course-keep', el.getBoundingClientRect().height < (picture ? 900 : 380));
   }
+  // a sentence that introduces what follows ("... doubles the middle one:") stays with
+  // it: the paragraph and a formula, code box or table after it in one box not split
+  for (const p of article.querySelectorAll('p')) {
+    if (p.parentElement.classList.contains('course-intro-keep')) continue;
+    const next = p.nextElementSibling;
+    if (!next || !/:\s*$/.test(p.textContent)) continue;
+    if (!next.matches('div.math, div.cell, div.highlight, div[class*=highlight-], .pst-scrollable-table-container, table, ul, ol')) continue;
+    if (next.getBoundingClientRect().height + p.getBoundingClientRect().height > 420) continue;
+    const box = document.createElement('div');
+    box.className = 'course-intro-keep';
+    p.before(box);
+    box.append(p, next);
+  }
   // a heading stays with the start of what it heads: heading and next block kept together
   // (in one box that is not split), or with the first lines of a long one
   for (const h of article.querySelectorAll('h2, h3, h4')) {
@@ -1219,15 +1292,16 @@ PRINT_PREPARE = r"""(numbers) => {
     h.before(box);
     box.append(h, next);
   }
+  // (a chapter's title, like any heading, may sit in its course-head-keep box by now)
   const chapters = [...document.querySelectorAll('section.course-chapter')];
   const entries = [];
   for (const c of chapters) {
-    const title = c.querySelector(':scope > h1, :scope > h2');
+    const title = c.querySelector(':scope > h1, :scope > h2, :scope > .course-head-keep > h1, :scope > .course-head-keep > h2');
     if (!title) continue;
-    entries.push({level: 1, id: c.id, text: title.textContent.replace('#', '').trim()});
+    entries.push({level: 1, id: c.id, text: title.textContent.replace('#', '').trim(), h: title});
     for (const s of c.querySelectorAll(':scope > section')) {
       const h = s.querySelector(':scope > h2, :scope > h3, :scope > .course-head-keep > h2, :scope > .course-head-keep > h3');
-      if (h && s.id) entries.push({level: 2, id: s.id, text: h.textContent.replace('#', '').trim()});
+      if (h && s.id) entries.push({level: 2, id: s.id, text: h.textContent.replace('#', '').trim(), h});
     }
   }
   const nav = document.getElementById('course-print-toc');
@@ -1237,7 +1311,8 @@ PRINT_PREPARE = r"""(numbers) => {
             `<span class="p">${toc[i] || ''}</span></li>`;
   });
   nav.innerHTML = html + '</ol>';
-  nav.querySelectorAll('span.t').forEach((t, i) => { t.textContent = entries[i].text; });
+  // an entry reads as its heading does, its maths typeset
+  nav.querySelectorAll('span.t').forEach((t, i) => { t.append(...headingCopy(entries[i].h)); });
   const solutionTitles = [...document.querySelectorAll('.course-solution-printed > h3, .course-solution-printed > .course-head-keep > h3')].map(h => h.textContent);
   document.querySelectorAll('p.course-solution-ref').forEach(p => {
     const i = Number(p.dataset.n) - 1;
@@ -1259,10 +1334,22 @@ PRINT_CSS = """
 .bd-article img { max-width: 100% !important; height: auto; }
 /* what fits in a third of a page stays whole (course-keep, set when printed: PRINT_PREPARE);
    a longer code block or table breaks across pages rather than leave half a page empty */
-.bd-article .course-keep, .bd-article tr, .course-head-keep { break-inside: avoid; }
+.bd-article .course-keep, .bd-article tr, .course-head-keep, .course-intro-keep { break-inside: avoid; }
 .bd-article h1, .bd-article h2, .bd-article h3, .bd-article h4 { break-after: avoid; break-inside: avoid; }
 .bd-article pre.course-lines > span.cl { break-inside: avoid; }
+/* a code box does not begin at a page's foot with no line of code in it */
+.bd-article pre.course-lines > span.cl:first-child { break-before: avoid; break-after: avoid; }
+.bd-article div.cell_input div.highlight, .bd-article div.cell_input pre,
+.bd-article div.cell_input div[class*=highlight-],
+.bd-article div.cell_output div.output, .bd-article div.cell_output pre { break-before: avoid; }
+/* whether a code or output box stays whole is its own class's say (course-keep): the
+   theme's wrappers inside it (div.highlight, div.highlight-ipython3: flex boxes that avoid
+   a break) would move the code to the next page and leave the box's frame empty here */
+.bd-article div.cell div.highlight, .bd-article div.cell div[class*=highlight-] {
+  display: block !important; }
 .bd-article div.cell_input:not(.course-keep) div.highlight, .bd-article div.cell_input:not(.course-keep) pre,
+.bd-article div.cell_input:not(.course-keep) div[class*=highlight-],
+.bd-article div.cell_output:not(.course-keep) div[class*=highlight-],
 .bd-article div.cell_output:not(.course-keep) div.highlight, .bd-article div.cell_output:not(.course-keep) pre,
 .bd-article div.cell_output:not(.course-keep) div.output { break-inside: auto !important; }
 .bd-article .course-empty { display: none !important; }

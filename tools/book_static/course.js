@@ -114,7 +114,8 @@
     }
     for (const m of document.querySelectorAll('.bd-article mjx-container:not([display="true"])')) {
       m.classList.remove("course-wide-inline");
-      const box = m.closest("p, li, td, th, dd, div") || m.parentElement;
+      // (not its span.math: the theme makes it a flex box as wide as the formula)
+      const box = m.closest("p, li, td, th, dd, dt, div, h1, h2, h3, h4, h5, h6") || m.parentElement;
       if (!box) continue;
       const b = box.getBoundingClientRect(), r = m.getBoundingClientRect();
       if (r.width > b.width - 2 || r.right > b.right + 1) m.classList.add("course-wide-inline");
@@ -146,9 +147,30 @@
     }
   }
 
+  /* The page's contents beside the text (taller than the window in a long chapter, they
+     scroll in their own box) follow the reader: the entry of the section in view, which
+     the theme marks "active", is brought into the box's view. */
+  function followContents() {
+    const panel = document.querySelector(".bd-sidebar-secondary");
+    if (!panel) return;
+    const show = () => {
+      if (panel.scrollHeight <= panel.clientHeight + 1) return;
+      const active = [...panel.querySelectorAll("a.active")].pop();
+      if (!active) return;
+      const p = panel.getBoundingClientRect(), r = active.getBoundingClientRect();
+      if (r.top < p.top + 48 || r.bottom > p.bottom - 48)
+        panel.scrollTop += r.top - p.top - panel.clientHeight / 3;
+    };
+    let pending = null;
+    const soon = () => { clearTimeout(pending); pending = setTimeout(show, 60); };
+    new MutationObserver(soon).observe(panel, {subtree: true, attributes: true, attributeFilter: ["class"]});
+    window.addEventListener("scroll", soon, {passive: true});
+  }
+
   function ready() {
     document.documentElement.dataset.courseScript = "1";
     themeToggle();
+    followContents();
     document.querySelectorAll(".plotly-graph-div").forEach(f => { fitFigure(f); if (narrow()) shield(f); });
     let tries = 0;
     const typeset = () => {

@@ -829,7 +829,8 @@ async () => {
     // Paper has no play button or slider: an animated scene is printed at the middle of its
     // slider, which the title names, and without the controls.
     const slider = (gd.layout.sliders || [])[0];
-    const title = String((gd.layout.title && gd.layout.title.text) || gd.layout.title || '');
+    const t = gd.layout.title;
+    const title = typeof t === 'string' ? t : String((t && t.text) || '');
     let at = '';
     if (slider && slider.steps && slider.steps.length) {
       const step = slider.steps[Math.floor((slider.steps.length - 1) / 2)];
@@ -838,7 +839,7 @@ async () => {
       at = `${(slider.currentvalue && slider.currentvalue.prefix) || ''}${step.label}`;
     }
     await Plotly.relayout(gd, {sliders: [], updatemenus: [], 'margin.b': 10,
-      'title.text': at ? `${title} (printed at ${at})` : title});
+      'title.text': !at ? title : title ? `${title} (printed at ${at})` : `printed at ${at}`});
     const url = await Plotly.toImage(gd, {format: 'png', width: w, height: h, scale: 2});
     const img = document.createElement('img');
     img.src = url;

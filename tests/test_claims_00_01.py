@@ -84,6 +84,23 @@ def test_00_recipe_near_pi_loses_up_to_eps_over_4_sin_squared():
     ts = np.pi - np.linspace(0.9e-4, 1.1e-4, 101)
     assert 3e-9 < max(abs(recipe_x(t) - t) / t for t in ts) < 1e-8
 
+def test_00_recipe_factor_relative_change_per_radian_is_about_1_over_sin_near_pi():
+    """00, under the figure "Why it fails near a half-turn": f(theta) = theta / (2 sin theta)
+    changes near pi by d ln f / d theta, about 1 / sin t (within 1 % once pi - t <= 1e-2);
+    and (R - R^T)^vee = 2 sin(theta) n, the skew part's length on the slide of the recipe."""
+    with mp.workdps(40):
+        for gap in ("1e-2", "1e-4", "1e-8"):
+            t = mp.pi - mp.mpf(gap)
+            slope = mp.diff(lambda th: mp.log(th / (2 * mp.sin(th))), t)
+            assert abs(slope * mp.sin(t) - 1) < 0.01
+    th_ = sp.symbols("theta", real=True)
+    n = sp.Matrix(sp.symbols("n1:4", real=True))
+    N = sp.Matrix([[0, -n[2], n[1]], [n[2], 0, -n[0]], [-n[1], n[0], 0]])
+    R = sp.eye(3) + sp.sin(th_) * N + (1 - sp.cos(th_)) * N * N
+    S = R - R.T
+    assert sp.simplify(sp.Matrix([S[2, 1], S[0, 2], S[1, 0]]) - 2 * sp.sin(th_) * n) == sp.zeros(3, 1)
+
+
 # --- notebook 01 ---------------------------------------------------------------------
 
 def test_01_hat_times_b_is_the_cross_product_for_random_vectors():

@@ -156,6 +156,37 @@ def test_59_more_spread_shrinks_the_steps_less():
     assert all(r1 < r2 for r1, r2 in zip(ratios, ratios[1:])) and ratios[0] < 0.05
 
 
+# --- A1 N16 and N15: the slides' claims -------------------------------------------------
+
+def test_a1_n16_a_fixed_axis_with_varying_speed_integrates_exactly():
+    # N16 (slide "The exponential of the integral is not the motion"): about a fixed axis
+    # the motion is exp of the integral even when the speed varies; many short exact steps
+    # of a moving axis are not.
+    n = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
+    ts, dt = np.linspace(0.0, 2.0, 4001)[:-1], 2.0 / 4000
+    R = np.eye(3)
+    for t in ts:                                     # midpoint speed 1 + sin 3t, exact steps
+        speed = (np.cos(3 * t) - np.cos(3 * (t + dt))) / 3 / dt + 1
+        R = R @ exp(speed * dt * n)
+    total = 2.0 + (1 - np.cos(6.0)) / 3              # the integral of 1 + sin 3t over [0, 2]
+    assert np.abs(R - exp(total * n)).max() < 1e-12
+    R = np.eye(3)
+    for t in ts:                                     # the axis turns: exp of the integral fails
+        R = R @ exp(dt * np.array([np.cos(t), np.sin(t), 0.0]))
+    integral = np.array([np.sin(2.0), 1 - np.cos(2.0), 0.0])
+    assert angle(R.T @ exp(integral)) > 0.1
+
+
+def test_a1_n15_ten_rad_wraps_to_10_minus_4_pi():
+    # N15's question: log(exp(0, 0, 10)) has z entry 10 - 4 pi, about -2.57; 10 - 2 pi, about
+    # 3.72, reaches the same rotation but is past pi.
+    back = log(exp([0.0, 0.0, 10.0]))
+    with mp.workdps(30):
+        assert abs(back[2] - float(10 - 4 * mp.pi)) <= 8 * EPS
+        assert 3.71 < float(10 - 2 * mp.pi) < 3.72 and float(10 - 2 * mp.pi) > math.pi
+    assert np.abs(exp([0.0, 0.0, 10.0 - 2 * np.pi]) - exp([0.0, 0.0, 10.0])).max() < 1e-14
+
+
 # --- A1 N11 and N12: the plots and their alt text ----------------------------------------
 
 _N = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])

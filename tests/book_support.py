@@ -167,6 +167,19 @@ SMALL_TARGETS = """() => [...document.querySelectorAll('.bd-header-article butto
   .filter(([, r]) => r.width > 0 && (r.width < 43.5 || r.height < 43.5))
   .map(([name, r]) => `${name}: ${Math.round(r.width)}x${Math.round(r.height)}`)"""
 
+# On a phone, the links to the previous and next chapter at a page's foot: any that runs
+# past the screen's right edge or whose title wraps to more than two lines.
+PREV_NEXT = """() => [...document.querySelectorAll('.prev-next-area a')].flatMap(a => {
+  const r = a.getBoundingClientRect(), t = a.querySelector('.prev-next-title');
+  const lines = t ? Math.round(t.getBoundingClientRect().height / parseFloat(getComputedStyle(t).lineHeight)) : 1;
+  const icon = a.querySelector('i');
+  const out = [];
+  if (r.right > innerWidth + 1 || (icon && icon.getBoundingClientRect().right > innerWidth + 1))
+    out.push(`${a.className}: runs ${Math.round(r.right - innerWidth)} px past the screen`);
+  if (lines > 2) out.push(`${a.className}: its title takes ${lines} lines`);
+  return out;
+})"""
+
 # At a phone width, the first thing on the screen is the page's text, not the contents.
 TEXT_FIRST = """() => {
   const h = document.querySelector('article h1');

@@ -6,7 +6,7 @@ button over it.
 """
 
 import pytest
-from book_support import CUT_OFF, PHONE, PHONE_FIGURES, SMALL_TARGETS, TEXT_FIRST, BookOffline, open_page, remembered
+from book_support import CUT_OFF, PHONE, PHONE_FIGURES, PREV_NEXT, SMALL_TARGETS, TEXT_FIRST, BookOffline, open_page, remembered
 from browser_support import screenshot
 
 pytestmark = pytest.mark.browser
@@ -31,7 +31,8 @@ def _visit(browser, pages):
                 .every(f => f._fullLayout)""")
             page.wait_for_timeout(300)  # the titles are refitted once drawn
             found[path.name] = {"cut": page.evaluate(CUT_OFF), "layout": page.evaluate(TEXT_FIRST),
-                                "figures": page.evaluate(PHONE_FIGURES), "small": page.evaluate(SMALL_TARGETS)}
+                                "figures": page.evaluate(PHONE_FIGURES), "small": page.evaluate(SMALL_TARGETS),
+                                "prevnext": page.evaluate(PREV_NEXT)}
             if path in (pages[0], pages[2]):
                 screenshot(page, f"book_{path.stem}_phone")
         found["_problems"] = offline.problems()
@@ -75,3 +76,8 @@ def test_on_a_phone_the_text_comes_first(phone, pages):
 def test_on_a_phone_the_header_buttons_are_big_enough_to_touch(phone, pages):
     small = [f"{path.name}: {b}" for path in pages for b in phone[path.name]["small"]]
     assert not small, "touch targets under 44 px:\n" + "\n".join(small[:12])
+
+
+def test_on_a_phone_the_previous_and_next_links_fit(phone, pages):
+    bad = [f"{path.name}: {b}" for path in pages for b in phone[path.name].get("prevnext", ["not measured"])]
+    assert not bad, "\n".join(bad)

@@ -1268,12 +1268,16 @@ PRINT_PREPARE = r"""(numbers) => {
     el.classList.toggle('course-keep', el.getBoundingClientRect().height < (picture ? 900 : 380));
   }
   // a sentence that introduces what follows ("... doubles the middle one:") stays with
-  // it: the paragraph and a formula, code box or table after it in one box not split
+  // it: the paragraph and a formula, or a code box or table after a colon, in one box
+  // not split
   for (const p of article.querySelectorAll('p')) {
     if (p.parentElement.classList.contains('course-intro-keep')) continue;
     const next = p.nextElementSibling;
-    if (!next || !/:\s*$/.test(p.textContent)) continue;
-    if (!next.matches('div.math, div.cell, div.highlight, div[class*=highlight-], .pst-scrollable-table-container, table, ul, ol')) continue;
+    if (!next) continue;
+    // (a display formula goes with the text before it, which often runs on after it)
+    const introduces = /:\s*$/.test(p.textContent) && next.matches(
+      'div.cell, div.highlight, div[class*=highlight-], .pst-scrollable-table-container, table, ul, ol');
+    if (!introduces && !next.matches('div.math')) continue;
     if (next.getBoundingClientRect().height + p.getBoundingClientRect().height > 420) continue;
     const box = document.createElement('div');
     box.className = 'course-intro-keep';
@@ -1337,11 +1341,11 @@ PRINT_CSS = """
 .bd-article .course-keep, .bd-article tr, .course-head-keep, .course-intro-keep { break-inside: avoid; }
 .bd-article h1, .bd-article h2, .bd-article h3, .bd-article h4 { break-after: avoid; break-inside: avoid; }
 .bd-article pre.course-lines > span.cl { break-inside: avoid; }
-/* a code box does not begin at a page's foot with no line of code in it */
-.bd-article pre.course-lines > span.cl:first-child { break-before: avoid; break-after: avoid; }
-.bd-article div.cell_input div.highlight, .bd-article div.cell_input pre,
-.bd-article div.cell_input div[class*=highlight-],
-.bd-article div.cell_output div.output, .bd-article div.cell_output pre { break-before: avoid; }
+/* a code box does not begin at a page's foot with no line of code in it: its padding
+   belongs to its first and last lines, which are not split from them */
+.bd-article pre.course-lines { padding-top: 0 !important; padding-bottom: 0 !important; }
+.bd-article pre.course-lines > span.cl:first-child { padding-top: 1rem; }
+.bd-article pre.course-lines > span.cl:last-child { padding-bottom: 1rem; }
 /* whether a code or output box stays whole is its own class's say (course-keep): the
    theme's wrappers inside it (div.highlight, div.highlight-ipython3: flex boxes that avoid
    a break) would move the code to the next page and leave the box's frame empty here */

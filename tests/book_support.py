@@ -206,7 +206,7 @@ TOC_IN_VIEW = """async () => {
   for (const at of [0.3, 0.6, 0.9]) {
     window.scrollTo(0, at * (document.documentElement.scrollHeight - innerHeight));
     await settle();
-    const active = toc && [...toc.querySelectorAll('a.active')].pop();
+    const active = toc && [...toc.querySelectorAll('a.active')].filter(a => a.getClientRects().length).pop();
     if (!active) continue;
     const box = toc.getBoundingClientRect(), a = active.getBoundingClientRect();
     if (a.top < box.top - 1 || a.bottom > Math.min(box.bottom, innerHeight) + 1)

@@ -155,7 +155,8 @@
     if (!panel) return;
     const show = () => {
       if (panel.scrollHeight <= panel.clientHeight + 1) return;
-      const active = [...panel.querySelectorAll("a.active")].pop();
+      // the deepest marked entry that is shown (a folded sub-list's entry has no box)
+      const active = [...panel.querySelectorAll("a.active")].filter(a => a.getClientRects().length).pop();
       if (!active) return;
       const p = panel.getBoundingClientRect(), r = active.getBoundingClientRect();
       if (r.top < p.top + 48 || r.bottom > p.bottom - 48)

@@ -1483,7 +1483,8 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
                                .every(d => d._fullLayout)""")  # drawn once the page has loaded
         page.evaluate("""() => Promise.all([...document.querySelectorAll('.plotly-graph-div')]
                          .map(d => window.Plotly ? Plotly.relayout(d, {sliders: [], updatemenus: [],
-                           'title.text': String((d.layout.title && d.layout.title.text) || d.layout.title || '')
+                           'title.text': (typeof d.layout.title === 'string' ? d.layout.title
+                             : String((d.layout.title && d.layout.title.text) || ''))
                              .replace(/^Turn it:\\s*/, ''),
                            // set for a projected slide; on a column of paper a third smaller
                            // and dark: plotly's grey is too light on paper

@@ -66,10 +66,13 @@ def _exp_ref(phi):
     """e^{hat(phi)} by (2.7b) with 50 significant digits, rounded once."""
     with mpmath.workdps(50):
         p = [mpmath.mpf(float(v)) for v in phi]
-        th = mpmath.sqrt(sum(v * v for v in p))
-        K = mpmath.matrix([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
-        R = mpmath.eye(3) + mpmath.sin(th) / th * K + 2 * (mpmath.sin(th / 2) / th)**2 * K * K
-        return np.array(R.tolist(), dtype=float)
+        th2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2]
+        th = mpmath.sqrt(th2)
+        a, b = mpmath.sin(th) / th, 2 * (mpmath.sin(th / 2) / th)**2
+        K = [[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]]
+        # I + a K + b K^2, with K^2 = p p^T - theta^2 I entry by entry (no mpmath.matrix)
+        return np.array([[float((i == j) + a * K[i][j] + b * (p[i] * p[j] - (th2 if i == j else 0)))
+                          for j in range(3)] for i in range(3)])
 
 
 def _rodrigues(phi):

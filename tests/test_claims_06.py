@@ -209,7 +209,7 @@ def test_rotation_vector_rate(t0):
 @pytest.mark.parametrize("theta, lo, hi", [(1.3, 1e-12, 1e-11), (3.0, 5e-12, 1e-10), (0.01, 0.0, 1e-13)])
 def test_float_differences_of_log(theta, lo, hi):
     """Exercise 6.1's solution: centred differences of Log in floats, at the best of 200
-    steps h, miss J_r^-1 by about 3e-12 at 1.3 rad and 1e-11 or more at 3 rad (so a check
+    steps h, miss J_r^-1 by about 3e-12 at 1.3 rad and about 1e-11 at 3 rad (so a check
     to 1e-12 needs the closed forms); only near 0 do they get much closer. Bands, not last
     digits: which step wins depends on how sin and cos round."""
     phi = theta * np.array([1.0, 2.0, -2.0]) / 3

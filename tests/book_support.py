@@ -112,6 +112,11 @@ CUT_OFF = """() => {
     const col = (el.closest('div.math') || el.parentElement).getBoundingClientRect();
     if (el.getBoundingClientRect().left < col.left - 1)
       cut.push(`formula opens with its start hidden (${Math.round(col.left - el.getBoundingClientRect().left)} px): ` + text(el));
+    // an equation number that ends at its box's right edge has its closing parenthesis cut
+    const label = el.querySelector('mjx-labels');
+    if (label && label.getClientRects().length && el.scrollWidth <= el.clientWidth + 1 &&
+        label.getBoundingClientRect().right > el.getBoundingClientRect().right - 2)
+      cut.push('equation number cut at the right edge: ' + text(el));
     const size = parseFloat(getComputedStyle(el).fontSize);
     const body = parseFloat(getComputedStyle(el.closest('article')).fontSize);
     if (size < 0.75 * body) cut.push(`formula set at ${size.toFixed(1)} px: ` + text(el));
@@ -202,10 +207,27 @@ TOC_IN_VIEW = """async () => {
   const links = toc ? toc.querySelectorAll('a').length : 0;
   const shown = !!r && r.width > 100 && r.top < innerHeight / 2 && r.bottom > innerHeight / 2
                 && getComputedStyle(toc).visibility !== 'hidden';
-  const hidden = [];
-  for (const at of [0.3, 0.6, 0.9]) {
+  const hidden = [], wrong = [];
+  // big jumps, as the wheel, End and Home make them: the marked entry is the section read
+  // (the last whose heading is above the window's top third; at the page's foot, the last
+  // whose heading shows), whatever the jump came from
+  for (const at of [0.3, 0.6, 0.9, 0.2, 1, 0.45, 0]) {
     window.scrollTo(0, at * (document.documentElement.scrollHeight - innerHeight));
     await settle();
+    if (toc) {
+      const links = [...toc.querySelectorAll('a.nav-link[href^="#"]')];
+      const foot = innerHeight + scrollY >= document.documentElement.scrollHeight - 2;
+      let expected = null, best = -Infinity;
+      for (const a of links) {
+        const t = document.getElementById(decodeURIComponent(a.hash.slice(1)));
+        const top = t ? t.getBoundingClientRect().top : Infinity;
+        if ((top <= innerHeight / 3 || (foot && top < innerHeight)) && top >= best) { best = top; expected = a; }
+      }
+      const marked = links.filter(a => a.classList.contains('active'));
+      const name = a => a ? a.textContent.trim().slice(0, 40) : 'none';
+      if (expected ? !marked.includes(expected) : marked.length)
+        wrong.push(`${Math.round(at * 100)}% down: marked "${name(marked.pop())}", reading "${name(expected)}"`);
+    }
     const active = toc && [...toc.querySelectorAll('a.active')].filter(a => a.getClientRects().length).pop();
     if (!active) continue;
     const box = toc.getBoundingClientRect(), a = active.getBoundingClientRect();
@@ -213,7 +235,7 @@ TOC_IN_VIEW = """async () => {
       hidden.push(`${Math.round(at * 100)}% down: "${active.textContent.trim().slice(0, 40)}" out of view`);
   }
   window.scrollTo(0, 0);
-  return {shown, links, hidden};
+  return {shown, links, hidden, wrong};
 }"""
 
 

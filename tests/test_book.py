@@ -328,6 +328,11 @@ def test_search_keeps_maths_as_text_and_leaves_folded_code_out(browser, pages):
     assert not [t for t in titles if re.search(r"\\[a-zA-Z]+|\s[:,]", t)], \
         [t for t in titles if re.search(r"\\[a-zA-Z]+|\s[:,]", t)][:5]
     assert not [e["t"] for e in index if "plt.subplots" in e["x"]], "folded figure code in the index"
+    # an equation's number is not text ("tag2.6"); a letter subscript keeps its "_"
+    tagged = [e["x"][max(0, m.start() - 30):m.end() + 10] for e in index
+              for m in re.finditer(r"\btag\s*\(?\d", e["x"] + " " + e["t"])]
+    assert not tagged, tagged[:5]
+    assert any("e_z" in e["x"] for e in index), "e_z is not in the index as e_z"
     offline = Offline(browser)
     page = offline.new_page()
     page.set_default_timeout(60_000)
@@ -429,3 +434,10 @@ def test_web_addresses_are_links_and_the_footer_and_icon_are_right(pages, soups)
         icon = soup.select_one('link[rel~="icon"]')
         assert icon is not None, f"{page.name}: no icon"
         assert (out / icon["href"]).is_file(), f"{page.name}: its icon {icon['href']} is missing"
+
+
+def test_search_text_of_maths_drops_equation_numbers_and_keeps_subscripts():
+    assert book.tex_to_text(r"\hat\omega^2 \tag{2.6}") == "ω̂²"
+    assert book.tex_to_text(r"\theta \label{eq:x} \nonumber") == "θ"
+    assert book.tex_to_text(r"e_z + e_{x}") == "e_z + e_x"
+    assert book.tex_to_text(r"R_{12}") == "R₁₂"

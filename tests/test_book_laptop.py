@@ -97,6 +97,8 @@ def test_on_a_laptop_a_chapter_keeps_its_contents_in_view(laptop, pages):
         assert toc["shown"] and toc["links"] >= 3, f"{path.name}: no contents in view half way down"
         assert not toc.get("hidden", ["not measured"]), \
             f"{path.name}: the contents do not show the section being read: {toc.get('hidden')}"
+        assert not toc.get("wrong", ["not measured"]), \
+            f"{path.name}: after a jump the contents mark another section: {toc.get('wrong')}"
 
 
 def test_axe_finds_nothing_serious_in_light_or_dark(laptop, pages):

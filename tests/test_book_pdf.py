@@ -118,6 +118,8 @@ def test_the_pdf_ends_with_a_closing_page(pdf):
                           text=True, check=True).stdout
     last = [p for p in text.split("\f") if p.strip()][-1]
     assert "About this course" in last and "CC BY 4.0" in last and "cite" in last, last[:400]
+    # the authors as a sentence names them ("By the so3-course authors"), not a capital "The"
+    assert not re.search(r"\bBy The\b", last), last[:400]
 
 
 def _page_texts(pdf):
@@ -146,8 +148,38 @@ def test_the_contents_list_every_chapter_with_its_page(pdf):
         m = re.search(r"(\d+)\s*$", line)
         assert m, f"no page number for {title} in the Contents: {line!r}"
         start = int(m.group(1))
-        assert _squash(title)[:12] in _squash(pages[start - 1]), \
+        # (the running header holds the book's title, which 00's title starts with)
+        assert _squash(title)[:12] in _squash(book._without_running_lines(pages[start - 1])), \
             f"the Contents send {title} to page {start}, which does not hold it"
+
+
+@pytest.mark.browser
+def test_every_contents_entry_is_on_its_page(pdf):
+    """Each line of the Contents (a chapter or one of its sections) gives the page its
+    heading is on: not a page of the Contents itself, nor one that only shows the running
+    header, and the pages never go back."""
+    pages = _page_texts(pdf)
+    first = next(n for n, p in enumerate(pages)
+                 if [ln.strip() for ln in p.splitlines() if ln.strip()][1:2] == ["Contents"])
+    entries, n = [], first
+    while n < len(pages):
+        lines = book._without_running_lines(pages[n]).splitlines()
+        found = [(m.group(1), int(m.group(2))) for m in
+                 (re.match(r"^\s*(\S.*?)\s{2,}(\d+)\s*$", ln) for ln in lines) if m]
+        if n > first and not found:
+            break
+        entries += found
+        n += 1
+    last_contents = n   # 1-based number of the Contents' last page
+    assert len(entries) > 50, entries[:5]
+    wrong, previous = [], 0
+    for title, page in entries:
+        key = _squash(title)[:12]
+        if page <= last_contents or page < previous or page > len(pages) or (
+                len(key) > 3 and key not in _squash(book._without_running_lines(pages[page - 1]))):
+            wrong.append(f"{title!r}: page {page}")
+        previous = max(previous, page)
+    assert not wrong, "Contents entries not on their page:\n" + "\n".join(wrong)
 
 
 def _grey_runs(column, shade=247, slack=3):

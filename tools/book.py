@@ -489,7 +489,7 @@ def closing_page(repository_url=REPOSITORY_URL):
              "the course's folder; the web book's download menu gives each notebook, ready to run.")
     return (f'<section id="course-print-close" class="course-close">'
             f'<h2>About this course</h2>'
-            f'<p><strong>{escape(BOOK_TITLE)}</strong>. {escape(edition)} By {escape(c["authors"])}.</p>'
+            f'<p><strong>{escape(BOOK_TITLE)}</strong>. {escape(edition)} By {escape(re.sub(r"^The ", "the ", c["authors"]))}.</p>'
             f'<p>The course text and figures are under the Creative Commons Attribution 4.0 licence '
             f'(CC BY 4.0, {CC_BY}); the code (so3lib, the notebooks\' code cells, the tools) under '
             f'the BSD 3-Clause licence. The full terms are in the file LICENSE.</p>'
@@ -846,6 +846,8 @@ def tex_to_text(tex):
         t = t[2:-2] if t.endswith(("\\)", "\\]")) else t[2:]
     t = t.strip("$")
     t = re.sub(r"\\(?:begin|end)\{[a-z*]+\}", " ", t)
+    # an equation's number is not part of its text ("tag2.6"); nor its label
+    t = re.sub(r"\\(?:tag\*?|label)\s*\{[^{}]*\}|\\(?:notag|nonumber)\b", " ", t)
     t = re.sub(r"\\(?:left|right|big|Big|bigg|Bigg)[lr]?\b\.?", "", t)
     t = re.sub(r"\\(?:operatorname|mathrm|mathbf|mathit|mathsf|mathcal|mathbb|text|textrm|textit|boldsymbol|bm)\s*\{([^{}]*)\}", r"\1 ", t)
     for _ in range(3):  # nested fractions
@@ -866,10 +868,11 @@ def tex_to_text(tex):
                if all(c in "0123456789+-=()nT" for c in m.group(1))
                else "^" + m.group(1) if len(m.group(1).replace("\u0302", "")) == 1 else "^(" + m.group(1) + ")", t)
     t = re.sub(r"\^([0-9nT])", lambda m: m.group(1).translate(_SUPERSCRIPT), t)
+    # a digit sets as a subscript; a letter keeps its "_" ("e_z", not "ez": few letters
+    # have a subscript form, and "e_z" is how one types it into the search)
     t = re.sub(r"_\{([^{}]*)\}", lambda m: m.group(1).translate(_SUBSCRIPT)
-               if m.group(1).isdigit() else m.group(1), t)
+               if m.group(1).isdigit() else "_" + m.group(1), t)
     t = re.sub(r"_([0-9])", lambda m: m.group(1).translate(_SUBSCRIPT), t)
-    t = re.sub(r"_([A-Za-z])", r"\1", t)
     t = t.replace("{", "").replace("}", "").replace("&", " ").replace("~", " ")
     return re.sub(r"\s+", " ", t).strip()
 
@@ -1413,7 +1416,22 @@ def _pdf_pages(pdf):
     import subprocess
     text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True,
                           text=True, check=True).stdout
-    return [_squash(p) for p in text.split("\f")]
+    return [_squash(_without_running_lines(p)) for p in text.split("\f")]
+
+
+def _without_running_lines(page):
+    """A printed page's text without its running header (the book's title, on every page:
+    a title that starts as the book's does would be found on any page) and its footer."""
+    lines = page.splitlines()
+    while lines and not lines[0].strip():
+        lines.pop(0)
+    if lines and lines[0].strip() == BOOK_TITLE:
+        lines.pop(0)
+    while lines and not lines[-1].strip():
+        lines.pop()
+    if lines and re.fullmatch(r"\d+\s*/\s*\d+", lines[-1].strip()):
+        lines.pop()
+    return "\n".join(lines)
 
 
 def _squash(t):
@@ -1436,9 +1454,16 @@ def _heading_pages(pages, titles, at=0):
 
 
 def _contents_end(pages, titles):
-    """The page after the contents list: the first that shows its last title."""
-    last = _squash(titles[-1])[:30] if titles else ""
-    return next((n + 1 for n, p in enumerate(pages) if last and last in p), 0)
+    """The page after the contents list: the first page after the Contents heading's that
+    opens with the list's first title (each chapter starts a page of its own; a title found
+    anywhere on a page could be its line in the contents list, or a short title such as
+    "References" that stands higher up the list)."""
+    if not titles:
+        return 0
+    start = next((n for n, p in enumerate(pages) if p.startswith("Contents")), 0)
+    first = _squash(titles[0])[:30]
+    return next((n for n in range(start + 1, len(pages)) if first and pages[n].startswith(first)),
+                start + 1)
 
 
 def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):

@@ -148,12 +148,39 @@
   }
 
   /* The page's contents beside the text (taller than the window in a long chapter, they
-     scroll in their own box) follow the reader: the entry of the section in view, which
-     the theme marks "active", is brought into the box's view. */
+     scroll in their own box) follow the reader: the entry of the section being read is
+     marked "active" and brought into the box's view. The section being read is worked out
+     from the scroll position after every scroll: the last one whose heading is above the
+     window's top third (at the page's foot, the last whose heading is in the window). The
+     theme's own marking follows headings as they cross the window's edge, and misses them
+     when a jump (Home, End, a long wheel turn) carries them past it in one go. */
   function followContents() {
     const panel = document.querySelector(".bd-sidebar-secondary");
     if (!panel) return;
+    const links = [...panel.querySelectorAll('a.nav-link[href^="#"]')];
+    const targets = links.map(a => document.getElementById(decodeURIComponent(a.hash.slice(1))));
+    const mark = () => {
+      const line = window.innerHeight / 3;
+      const atFoot = window.innerHeight + window.scrollY >= document.documentElement.scrollHeight - 2;
+      let current = null, best = -Infinity;
+      links.forEach((a, i) => {
+        if (!targets[i]) return;
+        const top = targets[i].getBoundingClientRect().top;
+        if ((top <= line || (atFoot && top < window.innerHeight)) && top >= best) { best = top; current = a; }
+      });
+      // the entry and the entries it sits under
+      const want = new Set();
+      for (let li = current && current.closest("li"); li && panel.contains(li);
+           li = li.parentElement.closest("li")) {
+        const a = li.querySelector(":scope > a.nav-link");
+        if (a) want.add(a);
+      }
+      for (const a of links) {
+        if (want.has(a) !== a.classList.contains("active")) a.classList.toggle("active", want.has(a));
+      }
+    };
     const show = () => {
+      mark();
       if (panel.scrollHeight <= panel.clientHeight + 1) return;
       // the deepest marked entry that is shown (a folded sub-list's entry has no box)
       const active = [...panel.querySelectorAll("a.active")].filter(a => a.getClientRects().length).pop();

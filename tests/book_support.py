@@ -156,7 +156,13 @@ PHONE_FIGURES = """() => [...document.querySelectorAll('.plotly-graph-div')].map
   const legend = fig.querySelector('.legend');
   const size = fig._fullLayout && fig._fullLayout._size;
   const sceneTop = size ? r.top + size.t : r.top;
+  // a lone scene takes the figure's width (not a slide's layout, kept clear of a legend
+  // beside it, which leaves a third of a phone empty and cuts the scene)
+  const scenes = fig._fullLayout ? Object.keys(fig._fullLayout).filter(k => /^scene\\d*$/.test(k)) : [];
+  const box = scenes.length === 1 && fig._fullLayout[scenes[0]]._scene &&
+              fig._fullLayout[scenes[0]]._scene.container;
   return {id: fig.id,
+          sceneWide: !box || box.getBoundingClientRect().width >= 0.9 * r.width,
           legendClear: !legend || legend.getBoundingClientRect().bottom <= sceneTop + 2,
           shield: !!cover && !cover.hidden && cover.getBoundingClientRect().height > r.height / 2,
           turn: !!turn && turn.textContent.includes('Turn'),
@@ -164,6 +170,13 @@ PHONE_FIGURES = """() => [...document.querySelectorAll('.plotly-graph-div')].map
           toolbar: !!bar && getComputedStyle(bar).display !== 'none',
           backToTop: !!top && getComputedStyle(top).display !== 'none'};
 })"""
+
+# On a phone, each picture shrunk to under 4/5 of its own width: whether a tap opens it
+# full size (a link to its own file).
+SHRUNK_PICTURES = """() => [...document.querySelectorAll('.bd-article div.cell_output img')]
+  .filter(img => img.getClientRects().length && img.naturalWidth && img.clientWidth < 0.8 * img.naturalWidth)
+  .map(img => { const a = img.closest('a');
+    return {src: img.getAttribute('src'), width: img.clientWidth, opens: !!a && a.href === img.src}; })"""
 
 # On a phone, the header's buttons are touch targets of 44 px or more.
 SMALL_TARGETS = """() => [...document.querySelectorAll('.bd-header-article button, .bd-header-article a.btn, .bd-header button, label.sidebar-toggle')]

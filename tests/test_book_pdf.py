@@ -217,9 +217,9 @@ def test_no_empty_piece_of_a_code_box(pdf, tmp_path):
         px = im.load()
         column = [[px[int(w * f), y] for f in (0.3, 0.5, 0.7)] for y in range(h)]
         for top, bottom in _grey_runs(column):
-            # thinner than a line of code and its box's padding: a box's top edge alone (a
-            # sliver of about 16 pt is still left at a page's foot now and then)
-            if bottom - top < 24 * dpi / 72:
+            # (a box that may break draws its grey with its lines: no top edge is left alone
+            # at a page's foot; thinner than 6 pt is a rule, not a box)
+            if bottom - top < 6 * dpi / 72:
                 continue
             foot = h - 16 / 25.4 * dpi   # the foot of the printed area
             below = [y0 for y0, y1 in found if y0 >= bottom and y1 < foot]

@@ -6,7 +6,7 @@ button over it.
 """
 
 import pytest
-from book_support import CUT_OFF, PHONE, PHONE_FIGURES, PREV_NEXT, SMALL_TARGETS, TEXT_FIRST, BookOffline, open_page, remembered
+from book_support import CUT_OFF, PHONE, PHONE_FIGURES, PREV_NEXT, SHRUNK_PICTURES, SMALL_TARGETS, TEXT_FIRST, BookOffline, open_page, remembered
 from browser_support import screenshot
 
 pytestmark = pytest.mark.browser
@@ -32,7 +32,8 @@ def _visit(browser, pages):
             page.wait_for_timeout(300)  # the titles are refitted once drawn
             found[path.name] = {"cut": page.evaluate(CUT_OFF), "layout": page.evaluate(TEXT_FIRST),
                                 "figures": page.evaluate(PHONE_FIGURES), "small": page.evaluate(SMALL_TARGETS),
-                                "prevnext": page.evaluate(PREV_NEXT)}
+                                "prevnext": page.evaluate(PREV_NEXT),
+                                "shrunk": page.evaluate(SHRUNK_PICTURES)}
             if path in (pages[0], pages[2]):
                 screenshot(page, f"book_{path.stem}_phone")
         found["_problems"] = offline.problems()
@@ -58,6 +59,8 @@ def test_on_a_phone_3d_figures_let_the_page_scroll_and_show_their_title(phone, p
                 problems.append(f"{path.name} #{fig['id']}: a swipe over it does not scroll the page")
             if not fig["titleInside"]:
                 problems.append(f"{path.name} #{fig['id']}: its title is cut off")
+            if not fig.get("sceneWide"):
+                problems.append(f"{path.name} #{fig['id']}: its scene leaves part of the width empty")
             if not fig.get("legendClear"):
                 problems.append(f"{path.name} #{fig['id']}: its legend covers the scene")
             if fig["toolbar"] or fig["backToTop"]:
@@ -81,3 +84,12 @@ def test_on_a_phone_the_header_buttons_are_big_enough_to_touch(phone, pages):
 def test_on_a_phone_the_previous_and_next_links_fit(phone, pages):
     bad = [f"{path.name}: {b}" for path in pages for b in phone[path.name].get("prevnext", ["not measured"])]
     assert not bad, "\n".join(bad)
+
+
+def test_on_a_phone_a_shrunk_picture_opens_full_size(phone, pages):
+    """A picture a phone shows at under 4/5 of its width (its ticks a few pixels tall) opens
+    at full size when tapped."""
+    bad = [f"{path.name}: {p['src']} shown {p['width']} px wide" for path in pages
+           for p in phone[path.name].get("shrunk", [{"src": "not measured", "width": 0, "opens": False}])
+           if not p["opens"]]
+    assert not bad, "\n".join(bad[:12])

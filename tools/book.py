@@ -1349,6 +1349,23 @@ PRINT_CSS = """
 .bd-article pre.course-lines { padding-top: 0 !important; padding-bottom: 0 !important; }
 .bd-article pre.course-lines > span.cl:first-child { padding-top: 1rem; }
 .bd-article pre.course-lines > span.cl:last-child { padding-bottom: 1rem; }
+/* a code box that may break across pages draws its grey and its green bar with its lines,
+   not round them: when its first line goes to the next page, what is left at the foot of
+   this one (the box's own top edge) shows nothing */
+.bd-article div.cell_input:not(.course-keep) { background: none !important;
+  border-color: transparent !important; }
+.bd-article div.cell_input:not(.course-keep) div.highlight,
+.bd-article div.cell_input:not(.course-keep) pre { background: none !important;
+  overflow: visible !important; }
+.bd-article div.cell_input:not(.course-keep) pre.course-lines {
+  padding-left: 0 !important; padding-right: 0 !important; }
+.bd-article div.cell_input:not(.course-keep) pre.course-lines > span.cl {
+  background: #f7f7f7; box-shadow: -3px 0 0 #008000, 1px 0 0 #ccc;
+  padding-left: calc((var(--i, 0) + 4) * 1ch + 1rem); padding-right: 1rem; }
+.bd-article div.cell_input:not(.course-keep) pre.course-lines > span.cl:first-child {
+  box-shadow: -3px 0 0 #008000, 1px 0 0 #ccc, 0 -1px 0 #ccc; }
+.bd-article div.cell_input:not(.course-keep) pre.course-lines > span.cl:last-child {
+  box-shadow: -3px 0 0 #008000, 1px 0 0 #ccc, 0 1px 0 #ccc; }
 /* whether a code or output box stays whole is its own class's say (course-keep): the
    theme's wrappers inside it (div.highlight, div.highlight-ipython3: flex boxes that avoid
    a break) would move the code to the next page and leave the box's frame empty here */

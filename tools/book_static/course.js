@@ -77,6 +77,11 @@
         Object.assign(upd, {"legend.orientation": "h", "legend.x": 0, "legend.xanchor": "left",
                             "legend.y": 1, "legend.yanchor": "bottom", "legend.font.size": f});
         extra += 66;
+        // a lone scene kept clear of a legend at its side (a slide's layout) takes the
+        // whole width once the legend is above it
+        const scenes = Object.keys(L).filter(k => /^scene\d*$/.test(k));
+        const d = scenes.length === 1 && L[scenes[0]].domain && L[scenes[0]].domain.x;
+        if (d && (d[0] > 0 || d[1] < 1)) upd[`${scenes[0]}.domain.x`] = [0, 1];
       }
       if (L.sliders && L.sliders.length) {
         upd["sliders[0].font.size"] = phone ? 9 : 11;
@@ -93,6 +98,10 @@
         if (box && box.style.height && !box.classList.contains("cell_output")) box.style.height = upd.height + "px";
       }
       window.Plotly.relayout(fig, upd);
+      // labels written in the scene (a point's name) at the size of the rest of the text:
+      // at a slide's size they run past a phone's edge
+      const labelled = (fig.data || []).map((t, i) => /text/.test(t.mode || "") ? i : -1).filter(i => i >= 0);
+      if (phone && labelled.length) window.Plotly.restyle(fig, {"textfont.size": f + 3, textposition: "top right"}, labelled);
     });
   }
 
@@ -195,8 +204,29 @@
     window.addEventListener("scroll", soon, {passive: true});
   }
 
+  /* On a phone a picture drawn for a wider page (a legend beside its plot) is shrunk until
+     its ticks are a few pixels tall: a tap opens it at full size, where it can be zoomed. */
+  function zoomPictures() {
+    if (!narrow()) return;
+    const wrap = img => {
+      if (img.closest("a") || !img.naturalWidth || img.naturalWidth < 1.25 * img.clientWidth) return;
+      const a = document.createElement("a");
+      a.className = "course-figure-zoom";
+      a.href = img.currentSrc || img.src;
+      a.target = "_blank";
+      a.rel = "noopener";
+      a.title = "Open the figure full size";
+      img.before(a);
+      a.appendChild(img);
+    };
+    for (const img of document.querySelectorAll(".bd-article div.cell_output img")) {
+      if (img.complete) wrap(img); else img.addEventListener("load", () => wrap(img), {once: true});
+    }
+  }
+
   function ready() {
     document.documentElement.dataset.courseScript = "1";
+    zoomPictures();
     themeToggle();
     followContents();
     document.querySelectorAll(".plotly-graph-div").forEach(f => { fitFigure(f); if (narrow()) shield(f); });

@@ -1096,6 +1096,8 @@ PRINT_PREPARE = r"""(numbers) => {
   const article = document.querySelector('.bd-article') || document.body;
   if (!document.body.dataset.coursePaper) {
     document.body.dataset.coursePaper = '1';
+    // a picture is not a link to its own file on paper (a phone's tap to enlarge it)
+    for (const a of document.querySelectorAll('a.course-figure-zoom')) a.replaceWith(...a.childNodes);
     // a heading that invites the reader to turn a figure ("Turn it: the box spinning")
     // names the figure on paper ("The box spinning"), in the contents list too
     for (const h of article.querySelectorAll('h1, h2, h3, h4')) {

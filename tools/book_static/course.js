@@ -209,7 +209,7 @@
   function zoomPictures() {
     if (!narrow()) return;
     const wrap = img => {
-      if (img.closest("a") || !img.naturalWidth || img.naturalWidth < 1.25 * img.clientWidth) return;
+      if (document.body.dataset.coursePaper || img.closest("a") || !img.naturalWidth || img.naturalWidth < 1.25 * img.clientWidth) return;
       const a = document.createElement("a");
       a.className = "course-figure-zoom";
       a.href = img.currentSrc || img.src;

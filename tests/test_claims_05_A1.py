@@ -244,12 +244,7 @@ def test_a12_solution_two_failures_just_short_of_a_half_turn():
 def test_a12_plot_near_zero_a_returned_zero_then_rounding_level_at_once():
     # The alt text of exercise A1.2's figure: near 0 the notes' logarithm (N13 corrected)
     # returns 0 up to about 2e-8 rad, and just above that its error is at rounding level.
-    def notes_ln(R, tau=1.0):
-        with np.errstate(all="ignore"):
-            sigma = np.arccos((np.trace(R) - 1) / 2) / tau
-            if sigma == 0:
-                return np.zeros(3)
-            return sigma * _vee(R - R.T) / (2 * np.sin(sigma * tau))
+    from test_claims_04 import _recipe as notes_ln     # the notes' recipe, written out once
     for th in np.logspace(-12, math.log10(1.5e-8), 12):
         assert not notes_ln(_exp50(th * _N)).any()
     for th in np.logspace(math.log10(3e-8), -1, 25):

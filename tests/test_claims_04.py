@@ -259,7 +259,8 @@ def test_near_pi_log_against_the_input_and_4_11_everywhere_fails():
 
 
 def test_symmetric_axis_bound_of_4_15():
-    # the axis from the column of (4.15) errs by at most about sqrt(3) delta / (1 - c)
+    # the axis from the column of (4.15) errs by at most about 3 delta / (1 - c) in length
+    # (the 2-norm), for a matrix off by at most delta in each entry
     rng = np.random.default_rng(2)
     for _ in range(200):
         n = _unit(rng.standard_normal(3))
@@ -270,8 +271,28 @@ def test_symmetric_axis_bound_of_4_15():
         B = (R + R.T) / 2 - c * np.eye(3)
         j = int(np.argmax(np.diag(B)))
         m = B[:, j] / np.linalg.norm(B[:, j])
-        err = min(np.abs(m - n).max(), np.abs(m + n).max())
-        assert err <= 2 * np.sqrt(3) * delta / (1 - np.cos(th))
+        err = min(np.linalg.norm(m - n), np.linalg.norm(m + n))
+        assert err <= 3 * delta / (1 - np.cos(th))
+
+
+def test_symmetric_axis_entry_bound_of_4_15():
+    # one entry of that axis: off by at most about (4/3) sqrt(3) = 2.3 delta / (1 - c) when
+    # each entry of the column errs by at most delta, reached for n = (1, 1, 1)/sqrt(3) and
+    # the column error delta (1, 1, -1)
+    rng = np.random.default_rng(12)
+    delta, worst = 1e-9, 0.0
+    for k in range(4000):
+        n = _unit(rng.standard_normal(3)) if k else _unit([1.0, 1.0, 1.0])
+        c = rng.uniform(-1, 0)
+        j = int(np.argmax(np.abs(n)))
+        e = delta * (rng.choice([-1.0, 1.0], 3) if k else np.array([1.0, 1.0, -1.0]))
+        col = (1 - c) * n[j] * n + e
+        m = col / np.linalg.norm(col)
+        err = min(np.abs(m - n).max(), np.abs(m + n).max()) * (1 - c) / delta
+        if k == 0:
+            assert abs(err - 4 / np.sqrt(3)) < 1e-5
+        worst = max(worst, err)
+    assert worst <= 4 / np.sqrt(3) + 1e-5
 
 
 # ------------------------------------------------------------------ section 8

@@ -25,9 +25,12 @@ late penalties, the feedback), but its `Execute` step is replaced by `SandboxExe
 
 import ast
 import contextlib
+import functools
 import hashlib
 import hmac
 import io
+import itertools
+import operator
 import os
 import socket
 import sys
@@ -54,6 +57,19 @@ def split_test(source):
     return "\n".join(visible), "\n".join(hidden)
 
 
+def _by_source(fn):
+    """FN(source, ...) remembered for the cells every submission of an assignment shares
+    (a warm grading worker reads the same handed-out cells in every notebook); long cells,
+    which only a learner writes, are worked out each time."""
+    cached = functools.lru_cache(maxsize=4096)(fn)
+
+    def call(source, *rest):
+        return cached(source, *rest) if len(source) < 20_000 else fn(source, *rest)
+    call.__doc__, call.__name__ = fn.__doc__, fn.__name__
+    return call
+
+
+@_by_source
 def _python(source):
     from IPython.core.inputtransformer2 import TransformerManager
     return TransformerManager().transform_cell(source)
@@ -131,10 +147,17 @@ def reference_namespace(source_path):
     return ns
 
 
+@_by_source
+def _tree(source):
+    """The syntax tree of a cell (IPython syntax turned into Python first); read, never changed."""
+    return ast.parse(_python(source))
+
+
+@_by_source
 def _defines_uses(source):
     """(names a cell binds at top level, names it reads), or None when it cannot be read."""
     try:
-        tree = ast.parse(_python(source))
+        tree = _tree(source)
     except SyntaxError:
         return None
     defined, used = set(), set()
@@ -147,7 +170,7 @@ def _defines_uses(source):
             defined.add((node.asname or node.name).split(".")[0])
         elif isinstance(node, ast.Attribute):
             pass
-    return defined, used
+    return frozenset(defined), frozenset(used)
 
 
 def needed_cells(nb):
@@ -320,6 +343,7 @@ def _statement(node, modules):
     return binds | _changes(node, modules, expr), reads
 
 
+@_by_source
 def _readable(source, modules):
     """(statements, their (binds, reads)) of a code cell, or None when what it reads or
     changes cannot be told from its names: IPython syntax (magics, !shell), exec, eval,
@@ -364,7 +388,7 @@ def run_plan(cells, handed_out, learner):
     modules, answer_reads = set(), set()
     for c in code.values():
         try:
-            tree = ast.parse(_python(c.source))
+            tree = _tree(c.source)
         except SyntaxError:
             continue
         modules |= {(a.asname or a.name).split(".")[0] for sub in ast.walk(tree)
@@ -378,7 +402,7 @@ def run_plan(cells, handed_out, learner):
             plan[i] = cell.source
             continue
         if is_test(cell):
-            visible = _readable(split_test(cell.source)[0], modules)
+            visible = _readable(split_test(cell.source)[0], frozenset(modules))
             if visible is None:
                 everything = True
             else:
@@ -386,7 +410,7 @@ def run_plan(cells, handed_out, learner):
             needed |= set(learner) | answer_reads
             plan[i] = cell.source
             continue
-        readable = _readable(cell.source, modules)
+        readable = _readable(cell.source, frozenset(modules))
         if readable is None:
             plan[i] = cell.source
             everything = True
@@ -585,22 +609,32 @@ class Channel:
 def _disabled(ns):
     """(module, name) of library functions the hidden test has set to None."""
     out = []
-    for mod_name, module in list(sys.modules.items()):
-        if not mod_name.startswith(("so3lib", "numpy.linalg", "scipy.linalg")):
+    for mod_name, (pristine, values) in _PRISTINE_NAMES.items():   # asked at every call: quick
+        space = getattr(sys.modules.get(mod_name), "__dict__", None)
+        if space is None:
             continue
-        for name, value in list(vars(module).items()):
-            if value is None and name in _PRISTINE.get(mod_name, ()):
-                out.append((mod_name, name))
+        try:
+            if not any(map(operator.is_, values(space), itertools.repeat(None))):
+                continue
+        except KeyError:                     # a name deleted: look at each one
+            pass
+        out += [(mod_name, name) for name in pristine if name in space and space[name] is None]
     return out
 
 
 _PRISTINE = {}
+_PRISTINE_NAMES = {}      # module: (its callables' names, a getter of their values now)
 
 
 def _snapshot():
     for mod_name, module in list(sys.modules.items()):
         if mod_name.startswith(("so3lib", "numpy.linalg", "scipy.linalg")) and mod_name not in _PRISTINE:
             _PRISTINE[mod_name] = {n: v for n, v in vars(module).items() if callable(v)}
+            names = tuple(_PRISTINE[mod_name])
+            if names:
+                getter = operator.itemgetter(*names)
+                _PRISTINE_NAMES[mod_name] = (names, (lambda space, g=getter: (g(space),)) if len(names) == 1
+                                             else getter)
 
 
 def _code_key(fn):

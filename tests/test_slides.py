@@ -325,10 +325,49 @@ def handouts(browser, decks):
     return {p.stem: p for p in pdfs}
 
 
+def _page_text(pdf, k):
+    if not shutil.which("pdftotext"):
+        if os.environ.get("CI"):
+            pytest.fail("no pdftotext (Debian package poppler-utils)")
+        pytest.skip("no pdftotext: apt-get install poppler-utils")
+    return subprocess.run(["pdftotext", "-f", str(k), "-l", str(k), str(pdf), "-"],
+                          capture_output=True, text=True, check=True).stdout
+
+
+ANSWERS = "Answers to the questions"
+
+
 @pytest.mark.parametrize("name", NAMES)
 def test_handout_has_one_page_per_slide(handouts, measured, name):
-    pages, n = _pdf_pages(handouts[name]), len(measured(name)["slides"])
-    assert pages == n, f"{name}: the handout has {pages} pages for {n} slides"
+    """One page per slide, then the page(s) of answers to the questions to the hall."""
+    pdf = handouts[name]
+    pages, n = _pdf_pages(pdf), len(measured(name)["slides"])
+    extra = [k for k in range(n + 1, pages + 1) if _page_text(pdf, k).lstrip().startswith(ANSWERS)]
+    assert pages == n + len(extra), f"{name}: the handout has {pages} pages for {n} slides"
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_handout_keeps_the_answers_for_the_last_pages(handouts, measured, name):
+    """A handout may be given out before the lecture: a question's page says where its
+    answer is printed, and that page lists it under the question's page number; the
+    answer is not on the question's page."""
+    pdf = handouts[name]
+    slides_ = measured(name)["slides"]
+    asked = [k for k, m in enumerate(slides_, 1) if m["questions"]]
+    moved = {}
+    for k in asked:
+        text = _page_text(pdf, k)
+        found = re.findall(r"Answer: page (\d+)\.", text)
+        if found:
+            moved[k] = int(found[0])
+    # an answer that is a picture stays on its slide, with the figures the handout keeps
+    kept = [k for k in asked if k not in moved and not slides_[k - 1]["figures"]]
+    assert not kept, f"{name}: answers printed under their questions on pages {kept}"
+    last = _pdf_pages(pdf)
+    for k, at in moved.items():
+        answers = "".join(_page_text(pdf, j) for j in range(at, last + 1))
+        assert answers.lstrip().startswith(ANSWERS), f"{name}: page {k} sends to page {at}, which holds no answers"
+        assert re.search(rf"^Page {k}\b", answers, re.MULTILINE), f"{name}: page {k}'s answer is not listed"
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -11,7 +11,9 @@ an exercise slide shows the task and how it is checked. `--solutions`
 (`make slides-solutions`) builds the decks with the worked solutions, for after the
 deadline, into build/slides-solutions/. `--handouts` (`make handouts`) prints each deck
 to build/handouts/NN_name.pdf, one page per slide, with Chromium (reveal's print view),
-each page with its slide's figures (a figure the learner turns as a still of its scene).
+each page with its slide's figures (a figure the learner turns as a still of its scene),
+and the answers to the questions to the hall gathered on the last page(s), each question's
+page saying where (a handout is often given out before the lecture).
 
 The slide is 1280x720 (a common projector) and scales as a whole to the screen: prose is
 30 px and code 25 px at 1280x720. reveal.js, MathJax, jQuery and require.js are unpacked
@@ -876,6 +878,87 @@ async () => {
 """
 
 
+# A handout is given out before the lecture as often as after: the answer to each question
+# to the hall (the fragment after a `question` cell) is not printed under its question but on
+# the last page(s), "Answers to the questions", with the slide it answers; the question's page
+# says where. An answer that holds a picture stays on its slide (the handout keeps every
+# figure where the slide shows it).
+ANSWERS_JS = r"""
+async () => {
+  const pages = [...document.querySelectorAll('.reveal .pdf-page')];
+  if (!pages.length) return 0;
+  const found = [];
+  pages.forEach((pg, k) => {
+    for (const q of pg.querySelectorAll('.jp-RenderedMarkdown.celltag_question')) {
+      const cell = q.closest('.jp-Cell');
+      if (!cell) continue;
+      // a question shown as a fragment of its own: its answer is the next fragment
+      const next = cell.nextElementSibling;
+      const holder = cell.parentElement.classList.contains('fragment') &&
+                     !(next && next.classList.contains('jp-Cell')) ? cell.parentElement : cell;
+      const frag = holder.nextElementSibling;
+      if (!frag || !frag.classList.contains('fragment')) continue;
+      const cells = [...frag.children].filter(c => c.classList.contains('jp-Cell'));
+      if (!cells.length || cells.some(c => c.querySelector('img, svg:not(mjx-container svg), .plotly-graph-div, canvas')))
+        continue;
+      const head = q.querySelector('h1, h2, h3, h4');
+      let title = (head || q).textContent.replace(/¶/g, '').replace(/\s+/g, ' ').trim();
+      if (!head && title.length > 70) title = title.slice(0, title.lastIndexOf(' ', 66)) + ' …';
+      found.push({page: k + 1, title: head || !q.querySelector('mjx-container') ? title : '',
+                  cells: cells.map(c => c.querySelector('.jp-RenderedMarkdown') || c)});
+      const ref = document.createElement('p');
+      ref.className = 'course-answer-ref';
+      ref.textContent = `Answer: page ${pages.length + 1}.`;
+      ref.style.cssText = 'font-size: 0.6em; color: #555; font-style: italic';
+      cells.forEach(c => c.remove());
+      frag.insertBefore(ref, frag.firstChild);
+    }
+  });
+  if (!found.length) return 0;
+  const model = pages[pages.length - 1], modelSection = model.querySelector('section');
+  const parent = model.parentNode;
+  const newPage = () => {
+    const pg = model.cloneNode(false);
+    const sec = modelSection.cloneNode(false);
+    sec.classList.remove('stack');
+    sec.style.cssText = modelSection.style.cssText + ';display:block;text-align:left;font-size:0.62em';
+    sec.style.height = 'auto';
+    pg.appendChild(sec);
+    parent.appendChild(pg);
+    const h = document.createElement('h3');
+    h.textContent = 'Answers to the questions';
+    sec.appendChild(h);
+    return [pg, sec];
+  };
+  let [pg, sec] = newPage(), count = 1;
+  for (const f of found) {
+    const item = document.createElement('div');
+    item.className = 'course-answer';
+    item.style.cssText = 'margin: 0 0 0.5em 0';
+    const label = document.createElement('p');
+    label.style.cssText = 'font-weight: bold; margin: 0';
+    label.textContent = `Page ${f.page}` + (f.title ? `: ${f.title}` : '');
+    item.appendChild(label);
+    f.cells.forEach(c => {
+      c.classList.remove('fragment');
+      for (const el of [c, ...c.querySelectorAll('[style]')]) el.style.removeProperty('font-size');
+      c.style.fontSize = '26px';
+      item.appendChild(c);
+    });
+    sec.appendChild(item);
+    if (item.getBoundingClientRect().bottom > pg.getBoundingClientRect().bottom - 24 &&
+        sec.children.length > 2) {
+      item.remove();
+      [pg, sec] = newPage();
+      count++;
+      sec.appendChild(item);
+    }
+  }
+  return count;
+}
+"""
+
+
 # How many pictures each page of the print view shows (what the PDF's page must hold).
 PAGE_PICTURES_JS = r"""
 () => [...document.querySelectorAll('.reveal .pdf-page')].map(pg =>
@@ -924,6 +1007,7 @@ def handouts(decks, out=OUT_HANDOUTS, browser=None):
             page = d.ready(timeout=PRINT_TIMEOUT_MS)
             page.wait_for_function("document.querySelectorAll('.reveal .pdf-page').length > 0",
                                    polling=250, timeout=PRINT_TIMEOUT_MS)
+            page.evaluate(ANSWERS_JS)
             page.evaluate(STILLS_JS)
             page.emulate_media(media="print")
             want = page.evaluate(PAGE_PICTURES_JS)

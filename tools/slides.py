@@ -904,7 +904,10 @@ async () => {
       const head = q.querySelector('h1, h2, h3, h4');
       let title = (head || q).textContent.replace(/¶/g, '').replace(/\s+/g, ' ').trim();
       if (!head && title.length > 70) title = title.slice(0, title.lastIndexOf(' ', 66)) + ' …';
-      found.push({page: k + 1, title: head || !q.querySelector('mjx-container') ? title : '',
+      // a question with maths and no heading: its first paragraph, formulas and all
+      const first = !head && q.querySelector('mjx-container') ? q.querySelector('p') : null;
+      const shown = first && first.textContent.length < 160 ? first.cloneNode(true) : null;
+      found.push({page: k + 1, title: head || !q.querySelector('mjx-container') ? title : '', shown,
                   cells: cells.map(c => c.querySelector('.jp-RenderedMarkdown') || c)});
       const ref = document.createElement('p');
       ref.className = 'course-answer-ref';
@@ -938,6 +941,11 @@ async () => {
     const label = document.createElement('p');
     label.style.cssText = 'font-weight: bold; margin: 0';
     label.textContent = `Page ${f.page}` + (f.title ? `: ${f.title}` : '');
+    if (f.shown) {
+      label.textContent += ': ';
+      f.shown.style.cssText = 'display: inline; font-size: inherit; margin: 0';
+      label.appendChild(f.shown);
+    }
     item.appendChild(label);
     f.cells.forEach(c => {
       c.classList.remove('fragment');

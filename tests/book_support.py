@@ -171,6 +171,43 @@ PHONE_FIGURES = """() => [...document.querySelectorAll('.plotly-graph-div')].map
           backToTop: !!top && getComputedStyle(top).display !== 'none'};
 })"""
 
+# On a phone, each 3-D scene's frame on the page (its container: the scene's share of the
+# figure, under its legend and above its slider) and the figure's background colour.
+SCENE_FRAMES = """() => [...document.querySelectorAll('.plotly-graph-div')].flatMap(fig => {
+  const L = fig._fullLayout;
+  if (!L) return [];
+  return Object.keys(L).filter(k => /^scene\\d*$/.test(k) && L[k]._scene).map(k => {
+    const r = L[k]._scene.container.getBoundingClientRect();
+    return {id: fig.id, scene: k, x: r.left + scrollX, y: r.top + scrollY, width: r.width, height: r.height,
+            background: L.paper_bgcolor};
+  });
+})"""
+
+
+def drawn_at_edges(png, background, band=3, inset=1, tolerance=60):
+    """The sides (left, right, top, bottom) of a picture of a 3-D scene's frame (PNG bytes)
+    where something is drawn: pixels in a band along the side, INSET pixels in, that differ
+    from the BACKGROUND colour ("#fff", "rgb(...)" or "white") by more than TOLERANCE (the
+    sum over the three channels), with up to two stray pixels forgiven on each side."""
+    import io
+    from PIL import Image, ImageColor
+
+    img = Image.open(io.BytesIO(png)).convert("RGB")
+    bg = ImageColor.getrgb(background or "white")[:3]
+    w, h = img.size
+    px = img.load()
+    sides = {"left": [(x, y) for x in range(inset, inset + band) for y in range(h)],
+             "right": [(x, y) for x in range(w - inset - band, w - inset) for y in range(h)],
+             "top": [(x, y) for y in range(inset, inset + band) for x in range(w)],
+             "bottom": [(x, y) for y in range(h - inset - band, h - inset) for x in range(w)]}
+    found = {}
+    for side, points in sides.items():
+        n = sum(1 for p in points if sum(abs(a - b) for a, b in zip(px[p], bg)) > tolerance)
+        if n > 2:
+            found[side] = n
+    return found
+
+
 # On a phone, each picture shrunk to under 4/5 of its own width: whether a tap opens it
 # full size (a link to its own file).
 SHRUNK_PICTURES = """() => [...document.querySelectorAll('.bd-article div.cell_output img')]
@@ -240,6 +277,17 @@ TOC_IN_VIEW = """async () => {
       const name = a => a ? a.textContent.trim().slice(0, 40) : 'none';
       if (expected ? !marked.includes(expected) : marked.length)
         wrong.push(`${Math.round(at * 100)}% down: marked "${name(marked.pop())}", reading "${name(expected)}"`);
+      // one place marked: the entry read and the entries it sits under, by the link's
+      // class or its list item's (the theme's own marking), nothing else
+      const chain = new Set();
+      for (let li = expected && expected.closest('li'); li && toc.contains(li); li = li.parentElement.closest('li')) {
+        const a = li.querySelector(':scope > a.nav-link');
+        if (a) chain.add(a);
+      }
+      const shownMarked = links.filter(a => a.classList.contains('active') ||
+                                            (a.parentElement.matches('li') && a.parentElement.classList.contains('active')));
+      for (const a of shownMarked.filter(a => !chain.has(a)))
+        wrong.push(`${Math.round(at * 100)}% down: "${name(a)}" marked besides "${name(expected)}"`);
     }
     const active = toc && [...toc.querySelectorAll('a.active')].filter(a => a.getClientRects().length).pop();
     if (!active) continue;

@@ -1,12 +1,26 @@
 """The book at a phone's size (390x844) in Chromium, with every request outside file://
 blocked: each page once. The text comes first (the contents do not cover it), nothing
 needs sideways scrolling (a wide table scrolls in its own box), and each 3-D figure lets
-a swipe scroll the page, keeps its title inside it, and has no toolbar or "Back to top"
-button over it.
+a swipe scroll the page, keeps its title inside it, draws all of its scene inside the
+scene's frame (nothing runs off its sides), and has no toolbar or "Back to top" button
+over it.
 """
 
 import pytest
-from book_support import CUT_OFF, PHONE, PHONE_FIGURES, PREV_NEXT, SHRUNK_PICTURES, SMALL_TARGETS, TEXT_FIRST, BookOffline, open_page, remembered
+from book_support import (
+    CUT_OFF,
+    PHONE,
+    PHONE_FIGURES,
+    PREV_NEXT,
+    SCENE_FRAMES,
+    SHRUNK_PICTURES,
+    SMALL_TARGETS,
+    TEXT_FIRST,
+    BookOffline,
+    drawn_at_edges,
+    open_page,
+    remembered,
+)
 from browser_support import screenshot
 
 pytestmark = pytest.mark.browser
@@ -28,18 +42,43 @@ def _visit(browser, pages):
         for path in pages:
             open_page(page, path)
             page.wait_for_function("""() => [...document.querySelectorAll('.plotly-graph-div')]
-                .every(f => f._fullLayout)""")
+                .every(f => f._fullLayout && f.dataset.courseSceneFitted)""")
             page.wait_for_timeout(300)  # the titles are refitted once drawn
             found[path.name] = {"cut": page.evaluate(CUT_OFF), "layout": page.evaluate(TEXT_FIRST),
                                 "figures": page.evaluate(PHONE_FIGURES), "small": page.evaluate(SMALL_TARGETS),
                                 "prevnext": page.evaluate(PREV_NEXT),
-                                "shrunk": page.evaluate(SHRUNK_PICTURES)}
+                                "shrunk": page.evaluate(SHRUNK_PICTURES),
+                                "scenes": _scene_edges(page)}
             if path in (pages[0], pages[2]):
                 screenshot(page, f"book_{path.stem}_phone")
         found["_problems"] = offline.problems()
     finally:
         offline.close()
     return found
+
+
+def _scene_edges(page):
+    """Each 3-D scene's frame photographed with its shield lifted (its button sits on the
+    frame): the sides where something drawn reaches the frame's edge, cut off there."""
+    frames = page.evaluate(SCENE_FRAMES)
+    if not frames:
+        return []
+    page.evaluate("""() => document.querySelectorAll('.course-figure-shield, .course-figure-done')
+                            .forEach(el => el.style.visibility = 'hidden')""")
+    seen = []
+    try:
+        for f in frames:
+            page.evaluate("y => window.scrollTo(0, y)", max(0, f["y"] - 100))
+            page.wait_for_timeout(300)  # plotly draws the scene once it is in view
+            clip = {"x": f["x"] + 1, "y": f["y"] + 1, "width": f["width"] - 2, "height": f["height"] - 2}
+            png = page.screenshot(clip=clip, full_page=True)
+            seen.append({"id": f["id"], "scene": f["scene"], "size": [round(f["width"]), round(f["height"])],
+                         "edges": drawn_at_edges(png, f["background"])})
+    finally:
+        page.evaluate("""() => document.querySelectorAll('.course-figure-shield, .course-figure-done')
+                                .forEach(el => el.style.visibility = '')""")
+        page.evaluate("window.scrollTo(0, 0)")
+    return seen
 
 
 def test_every_page_reads_offline(phone):
@@ -66,6 +105,18 @@ def test_on_a_phone_3d_figures_let_the_page_scroll_and_show_their_title(phone, p
             if fig["toolbar"] or fig["backToTop"]:
                 problems.append(f"{path.name} #{fig['id']}: a toolbar or 'Back to top' covers it")
     assert not problems, "\n".join(problems)
+
+
+def test_on_a_phone_each_3d_scene_lies_inside_its_frame(phone, pages):
+    """Nothing a 3-D scene draws (a sphere, an arrow, its axis box and labels) reaches the
+    side of its frame on a phone: a slide's camera, placed for a wide frame, would leave
+    part of the drawing off the narrow one."""
+    cut = [f"{path.name} #{s['id']} ({s['scene']}, {s['size'][0]}x{s['size'][1]}): drawn up to its "
+           + ", ".join(f"{side} edge ({n} px)" for side, n in s["edges"].items())
+           for path in pages for s in phone[path.name].get("scenes", [{"id": "not measured", "scene": "",
+                                                                      "size": [0, 0], "edges": {"all": 0}}])
+           if s["edges"]]
+    assert not cut, "\n".join(cut)
 
 
 def test_on_a_phone_the_text_comes_first(phone, pages):

@@ -690,6 +690,10 @@ def sphinx(src, out, builder):
                           builder=builder, quiet=True, keep_going=True)
     if result:
         raise SystemExit(f"the {builder} build of the book failed ({result})")
+    # when no page changed, Sphinx may finish without copying its static files again: the
+    # course's own script and style are brought up to date here
+    for f in ("course.css", "course.js"):
+        _write_if_changed(Path(out) / "_static" / f, (src / "course_static" / f).read_bytes())
 
 
 def wrap_solutions(soup):

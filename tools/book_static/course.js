@@ -76,6 +76,8 @@
       if (L.showlegend !== false && phone) {
         Object.assign(upd, {"legend.orientation": "h", "legend.x": 0, "legend.xanchor": "left",
                             "legend.y": 1, "legend.yanchor": "bottom", "legend.font.size": f});
+        // a legend's title above its entries, not before them on a row wider than a phone
+        if (L.legend && L.legend.title && L.legend.title.text) upd["legend.title.side"] = "top";
         extra += 66;
         // a lone scene kept clear of a legend at its side (a slide's layout) takes the
         // whole width once the legend is above it
@@ -97,12 +99,160 @@
       for (const box of [fig, fig.parentElement]) {
         if (box && box.style.height && !box.classList.contains("cell_output")) box.style.height = upd.height + "px";
       }
-      window.Plotly.relayout(fig, upd);
+      const drawn = window.Plotly.relayout(fig, upd);
       // labels written in the scene (a point's name) at the size of the rest of the text:
       // at a slide's size they run past a phone's edge
       const labelled = (fig.data || []).map((t, i) => /text/.test(t.mode || "") ? i : -1).filter(i => i >= 0);
       if (phone && labelled.length) window.Plotly.restyle(fig, {"textfont.size": f + 3, textposition: "top right"}, labelled);
+      // a slide's camera was placed for a wide scene: on a phone it is moved back until
+      // everything drawn lies inside the narrow frame, and the frame loses the height the
+      // drawing no longer needs
+      if (phone) {
+        Promise.resolve(drawn).then(() => fitScenes(fig, f + 3))
+          .finally(() => { fig.dataset.courseSceneFitted = "1"; });
+      } else fig.dataset.courseSceneFitted = "1";
     });
+  }
+
+  /* The numbers of a plotly array: a plain or typed array, nested (a surface's rows), or
+     plotly's packed form {dtype, bdata}. */
+  function numbers(a, out = []) {
+    if (a == null) return out;
+    if (a.bdata && a.dtype) {
+      const kinds = {f4: Float32Array, f8: Float64Array, i1: Int8Array, u1: Uint8Array, i2: Int16Array,
+                     u2: Uint16Array, i4: Int32Array, u4: Uint32Array};
+      const raw = Uint8Array.from(atob(a.bdata), c => c.charCodeAt(0));
+      a = kinds[a.dtype] ? new kinds[a.dtype](raw.buffer) : [];
+    }
+    if (typeof a === "number") { out.push(a); return out; }
+    for (const v of a) { if (v && typeof v === "object") numbers(v, out); else out.push(typeof v === "number" ? v : NaN); }
+    return out;
+  }
+
+  /* What a 3-D scene draws, as points of the scene's own space, each with the room in
+     pixels it needs around it [left, right, top, bottom]: the points of every trace in
+     the scene (in every frame of an animation), a label's text beside its point, and the
+     axis box with its tick labels when the box is drawn. */
+  function sceneContent(fig, name, scene, textSize) {
+    const scale = scene.dataScale || [1, 1, 1];
+    const B = scene.glplot && scene.glplot.bounds;
+    // what lies beyond the axes' ranges is not drawn: it counts at the range's end
+    const clip = (v, i) => B ? Math.min(B[1][i], Math.max(B[0][i], v)) : v;
+    const pts = [];
+    const add = (t, room) => {
+      const x = numbers(t.x), y = numbers(t.y), z = numbers(t.z);
+      const grid = t.type === "surface" && z.length > x.length;      // x, y the grid's sides
+      const rows = grid ? y.length : 0, cols = grid ? x.length : 0;
+      for (let i = 0; i < z.length; i++) {
+        const p = grid ? [x[i % cols], y[Math.floor(i / cols) % rows], z[i]] : [x[i], y[i], z[i]];
+        if (p.every(Number.isFinite)) pts.push({p: p.map((v, k) => clip(v * scale[k], k)), room});
+      }
+    };
+    const full = fig._fullData || [];
+    const here = i => full[i] && (full[i].scene || "scene") === name && full[i].visible !== false;
+    full.forEach((t, i) => {
+      if (!here(i)) return;
+      const marker = /markers/.test(t.mode || "") && t.marker ? (+t.marker.size || 6) / 2 : 0;
+      const r = Math.max(8, marker, t.type === "cone" ? 12 : 0);
+      const text = /text/.test(t.mode || "") && t.text ? t.text : null;
+      if (!text) { add(t, [r, r, r, r]); return; }
+      // a label: each point on its own, with its text's width at its side
+      const x = numbers(t.x), y = numbers(t.y), z = numbers(t.z);
+      const size = (t.textfont && +t.textfont.size) || textSize;
+      const pos = String(t.textposition || "middle center");
+      x.forEach((_, k) => {
+        const label = String((Array.isArray(text) ? text[k] : text) || "").replace(/<[^>]+>/g, "");
+        const w = label ? 0.6 * size * label.length + 4 : 0, h = label ? size + 4 : 0;
+        const room = [r + (/left/.test(pos) ? w : /right/.test(pos) ? 0 : w / 2),
+                      r + (/right/.test(pos) ? w : /left/.test(pos) ? 0 : w / 2),
+                      r + (/top/.test(pos) ? h : 0), r + (/bottom/.test(pos) ? h : 0)];
+        add({x: [x[k]], y: [y[k]], z: [z[k]]}, room);
+      });
+    });
+    const frames = (fig._transitionData && fig._transitionData._frames) || [];
+    for (const fr of frames) {
+      (fr.data || []).forEach((d, j) => {
+        const i = fr.traces ? fr.traces[j] : j;
+        if (here(i) && d) add({x: d.x, y: d.y, z: d.z, type: full[i].type}, [8, 8, 8, 8]);
+      });
+    }
+    const L = fig._fullLayout[name];
+    const box = ["xaxis", "yaxis", "zaxis"].some(a => L[a].visible !== false &&
+      (L[a].showgrid || L[a].showbackground || L[a].showline));
+    if (box && B) {
+      // the box's corners with room for the tick labels beyond them; the middle of each
+      // edge along an axis with room for that axis' title too (plotly writes it there, on
+      // the edge it chooses as the view turns)
+      const ticks = 2 * textSize;
+      for (const i of [0, 1]) for (const j of [0, 1]) for (const k of [0, 1])
+        pts.push({p: [B[i][0], B[j][1], B[k][2]], room: [ticks, ticks, ticks, ticks]});
+      ["xaxis", "yaxis", "zaxis"].forEach((a, i) => {
+        const title = String((L[a].title && L[a].title.text) || "").replace(/<[^>]+>/g, "");
+        if (!title || L[a].visible === false) return;
+        const across = 3.5 * textSize + 0.6 * textSize * title.length, up = ticks + textSize;
+        const [j, k] = [0, 1, 2].filter(n => n !== i);
+        for (const u of [0, 1]) for (const v of [0, 1]) {
+          const p = [0, 0, 0];
+          p[i] = (B[0][i] + B[1][i]) / 2; p[j] = B[u][j]; p[k] = B[v][k];
+          pts.push({p, room: [across, across, up, up]});
+        }
+      });
+    }
+    return pts;
+  }
+
+  /* Each 3-D scene of a figure on a phone: its camera moved back along its line of sight
+     until all it draws lies in its frame (the view is the one the slide chose, only
+     farther), then the frame as tall as the drawing needs (never taller than before). In
+     plotly's perspective the height of the frame sets the scale: the vertical field of
+     view is fixed, so a point's distance from the frame's centre in pixels is
+     (h / 2) k y / depth, k = 1 / tan(fovy / 2). */
+  function fitScenes(fig, textSize) {
+    const L = fig._fullLayout;
+    const names = Object.keys(L).filter(k => /^scene\d*$/.test(k));
+    if (names.length !== 1) return;  // side by side scenes keep the slide's layout
+    const name = names[0], sc = L[name], scene = sc._scene;
+    const g = scene && scene.glplot, cp = g && g.cameraParams;
+    if (!cp || !cp.view || !cp.model) return;
+    const mul = (m, v) => [0, 1, 2, 3].map(i => m[i] * v[0] + m[4 + i] * v[1] + m[8 + i] * v[2] + m[12 + i] * v[3]);
+    const content = sceneContent(fig, name, scene, textSize);
+    if (!content.length) return;
+    const seen = content.map(({p, room}) => {
+      const v = mul(cp.view, mul(cp.model, [p[0], p[1], p[2], 1]));
+      return {x: v[0], y: v[1], depth: -v[2], room};
+    });
+    const k = 1 / Math.tan((g.fovy || Math.PI / 4) / 2);
+    const size = L._size, dx = sc.domain.x, dy = sc.domain.y;
+    const w = size.w * (dx[1] - dx[0]), h0 = size.h * (dy[1] - dy[0]);
+    // the move back that fits every point into a frame of height h, and the tallest frame
+    // that still fits it across
+    const back = (h, across = true) => Math.max(0, ...seen.map(({x, y, depth, room: [l, r, t, b]}) => Math.max(
+      across ? k * (h / 2) * Math.max(x, 0) / Math.max(1, w / 2 - r) : 0,
+      across ? k * (h / 2) * Math.max(-x, 0) / Math.max(1, w / 2 - l) : 0,
+      k * (h / 2) * Math.max(y, 0) / Math.max(1, h / 2 - t), k * (h / 2) * Math.max(-y, 0) / Math.max(1, h / 2 - b)) - depth));
+    const across = d => Math.min(...seen.map(({x, depth, room: [l, r]}) => {
+      const need = k * Math.abs(x) / (2 * (depth + d));
+      return need > 0 ? (w / 2 - (x > 0 ? r : l)) / need : Infinity;
+    }));
+    let h = h0, d = 0;
+    for (let round = 0; round < 4; round++) {
+      d = back(h, false);
+      h = Math.min(h0, Math.max(0.75 * w, across(d)));
+    }
+    d = back(h);
+    const upd = {};
+    if (d > 1e-3) {
+      const e = sc.camera.eye, c = sc.camera.center;
+      const dist = Math.hypot(e.x - c.x, e.y - c.y, e.z - c.z), s = (dist + d) / dist;
+      upd[`${name}.camera.eye`] = {x: c.x + s * (e.x - c.x), y: c.y + s * (e.y - c.y), z: c.z + s * (e.z - c.z)};
+    }
+    if (h0 - h > 8) {
+      upd.height = Math.round(L.height - (h0 - h));
+      for (const b of [fig, fig.parentElement]) {
+        if (b && b.style.height && !b.classList.contains("cell_output")) b.style.height = upd.height + "px";
+      }
+    }
+    if (Object.keys(upd).length) return window.Plotly.relayout(fig, upd);
   }
 
   /* A display formula wider than the column is set smaller until it fits (down to 80% of
@@ -186,6 +336,13 @@
       }
       for (const a of links) {
         if (want.has(a) !== a.classList.contains("active")) a.classList.toggle("active", want.has(a));
+      }
+      // the theme marks an entry's li too, and leaves it marked when it loses track: only
+      // the entries marked here keep theirs, so one place is marked, never two
+      for (const li of panel.querySelectorAll("li")) {
+        const a = li.querySelector(":scope > a.nav-link");
+        const on = !!a && want.has(a);
+        if (li.classList.contains("active") !== on) li.classList.toggle("active", on);
       }
     };
     const show = () => {

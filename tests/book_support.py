@@ -84,8 +84,9 @@ def built():
 
 # What a reader would have to scroll sideways: a code or output block wider than its box
 # (they wrap: none may scroll), a display formula wider than its column with no scroll of
-# its own (formulas are set smaller until they fit, down to 80%, course.js) or set too small
-# to read, inline maths past its line with no scroll of its own, a table wider than the screen with no scroll of its
+# its own (formulas are set smaller until they fit, course.js: down to 70% of the text's
+# size when the whole formula then fits, else to 80% of MathJax's size), one set below 70%
+# of the text, or one shrunk below 80% of MathJax's size that still scrolls, inline maths past its line with no scroll of its own, a table wider than the screen with no scroll of its
 # own, or the page itself wider than the screen; a formula that opens with its start out
 # of reach (left of its column). Collapsed blocks are skipped.
 CUT_OFF = """() => {
@@ -119,7 +120,11 @@ CUT_OFF = """() => {
       cut.push('equation number cut at the right edge: ' + text(el));
     const size = parseFloat(getComputedStyle(el).fontSize);
     const body = parseFloat(getComputedStyle(el.closest('article')).fontSize);
-    if (size < 0.75 * body) cut.push(`formula set at ${size.toFixed(1)} px: ` + text(el));
+    if (size < 0.695 * body) cut.push(`formula set at ${size.toFixed(1)} px: ` + text(el));
+    // below 80% of MathJax's size (course.js) only when it then fits whole
+    if (el.dataset.courseSize !== undefined && /%$/.test(el.style.fontSize) && wide &&
+        parseFloat(el.style.fontSize) < 0.795 * (parseFloat(el.dataset.courseSize) || 100))
+      cut.push('formula set below 80% of its size and still too wide: ' + text(el));
   }
   for (const el of document.querySelectorAll('article mjx-container:not([display="true"])')) {
     if (!shown(el) || el.closest('td, th, .pst-scrollable-table-container')) continue;

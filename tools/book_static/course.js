@@ -255,9 +255,11 @@
     if (Object.keys(upd).length) return window.Plotly.relayout(fig, upd);
   }
 
-  /* A display formula wider than the column is set smaller until it fits (down to 80% of
-     its size, still readable), so that it keeps its equation number in view; one wider
-     still scrolls in its own box. Inline maths wider than its line scrolls in its own box. */
+  /* A display formula wider than the column is set smaller until it fits, so that it keeps
+     its equation number in view: down to 70% of the text's size when it then fits whole
+     (MathJax sets display maths at about 127% of the text); one wider still is set at 80%
+     of its own size and scrolls in its own box. Inline maths wider than its line scrolls
+     in its own box. */
   function fitFormulas() {
     for (const m of document.querySelectorAll('.bd-article mjx-container[display="true"]')) {
       if (m.dataset.courseSize === undefined) m.dataset.courseSize = m.style.fontSize || "";
@@ -267,7 +269,10 @@
       const over = Math.max(m.scrollWidth, m.offsetWidth) / avail;
       if (over > 1.01) {
         const base = parseFloat(m.dataset.courseSize) || 100;
-        m.style.fontSize = (base * Math.max(0.8, 1 / over - 0.01)).toFixed(1) + "%";
+        const text = parseFloat(getComputedStyle(m.closest("article") || document.body).fontSize);
+        const least = 0.7 * text / parseFloat(getComputedStyle(m).fontSize);  // 70% of the text
+        const fit = 1 / over - 0.01;
+        m.style.fontSize = (base * (fit >= least ? fit : Math.max(0.8, fit))).toFixed(1) + "%";
       }
       m.classList.toggle("course-scrolls", Math.max(m.scrollWidth, m.offsetWidth) > avail + 1);
     }

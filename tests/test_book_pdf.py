@@ -226,3 +226,49 @@ def test_no_empty_piece_of_a_code_box(pdf, tmp_path):
             if not below and bottom >= foot - 8 * dpi / 72 and not any(y0 < bottom and y1 > top for y0, y1 in found):
                 empty.append(f"page {number}: an empty grey box {round((bottom - top) * 72 / dpi)} pt tall")
     assert not empty, "a code box's empty piece:\n" + "\n".join(empty)
+
+
+def _scene_stills(pdf, folder):
+    """Each 3-D figure's still in the PDF: (page, picture) with the picture laid on white.
+    Chromium prints a scene's WebGL canvas, the size of the scene's frame, as an image with
+    a soft mask (its transparency); the other pictures (matplotlib's PNGs) have none."""
+    from PIL import Image
+    listing = subprocess.run(["pdfimages", "-list", str(pdf)], capture_output=True, text=True,
+                             check=True).stdout.splitlines()[2:]
+    rows = [ln.split() for ln in listing if ln.strip()]
+    subprocess.run(["pdfimages", "-png", "-p", str(pdf), str(folder / "i")], check=True)
+    files = {int(f.stem.split("-")[-1]): f for f in folder.glob("i-*.png")}
+    stills = []
+    for row, next_row in zip(rows, rows[1:]):
+        # an image followed by its soft mask (the same object)
+        if row[2] == "image" and next_row[2] == "smask" and next_row[10] == row[10]:
+            rgb = Image.open(files[int(row[1])]).convert("RGB")
+            alpha = Image.open(files[int(next_row[1])]).convert("L").resize(rgb.size)
+            white = Image.new("RGB", rgb.size, "white")
+            stills.append((int(row[0]), Image.composite(rgb, white, alpha)))
+    return stills
+
+
+@pytest.mark.browser
+def test_every_3d_still_fits_its_frame(pdf, tmp_path):
+    """A 3-D figure's still shows all its scene draws: nothing drawn (the axis box, its
+    tick labels and titles, a trace) reaches a side of the scene's frame, where the print
+    would cut it off (course.js moves each scene's camera back until it fits: FIT_SCENES in
+    tools/book.py)."""
+    import io
+
+    from book_support import drawn_at_edges
+    if not shutil.which("pdfimages"):
+        skip_or_fail("pdfimages (poppler-utils) is needed to read the PDF's pictures")
+    stills = _scene_stills(pdf, tmp_path)
+    assert stills, "no 3-D figure's still found in the PDF"
+    cut = []
+    for page, still in stills:
+        png = io.BytesIO()
+        still.save(png, "PNG")
+        # at the print's 2 pixels a CSS pixel: a band 3 CSS pixels wide, 2 in from the side
+        sides = drawn_at_edges(png.getvalue(), "white", band=6, inset=2)
+        if sides:
+            cut.append(f"page {page}: the still ({still.width}x{still.height}) is drawn up to "
+                       f"its frame's " + ", ".join(f"{s} ({n} px)" for s, n in sides.items()))
+    assert not cut, "3-D pictures cut by their frame:\n" + "\n".join(cut)

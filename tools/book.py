@@ -1424,6 +1424,99 @@ PAST_MARGIN = r"""() => {
 }"""
 
 
+# Each 3-D scene as it will be printed (the paper's fonts, the column's width): its camera
+# moved back along its line of sight until all it draws (every trace, the axis box with
+# its tick labels and titles) lies inside its frame, and the frame no taller than the
+# drawing then needs: course.js's fitting for a phone (courseFitScenes), given the paper's
+# text size. Plotly's perspective scales a scene to its frame's height, so a slide's camera
+# in a frame narrower than the slide's cut the drawing at its sides.
+FIT_SCENES = """async () => {
+  const frame = () => new Promise(r => requestAnimationFrame(() => r()));
+  for (const d of document.querySelectorAll('.plotly-graph-div')) {
+    if (!window.courseFitScenes || !d._fullLayout) continue;
+    await frame();
+    await Promise.resolve(window.courseFitScenes(d, 16));
+  }
+  await frame();
+}"""
+
+
+# Each figure as laid out for print: its title, its height, and the height of the block
+# that moves with it to the next page when it does not fit (the outermost box kept whole
+# round it: its cell, or a heading or introducing sentence kept with it), and the space
+# between that block and what is printed before it (margins).
+FIGURE_BLOCKS = r"""() => [...document.querySelectorAll('.plotly-graph-div')].map(d => {
+  let block = d;
+  for (let e = d; e && !e.matches('.bd-article'); e = e.parentElement)
+    if (e.matches('.course-keep, .course-head-keep, .course-intro-keep')) block = e;
+  let prev = null;
+  for (let e = block; e && !prev && !e.matches('.bd-article'); e = e.parentElement) {
+    let s = e.previousElementSibling;
+    while (s && !s.getClientRects().length) s = s.previousElementSibling;
+    prev = s;
+  }
+  const top = block.getBoundingClientRect().top;
+  const t = d._fullLayout && d._fullLayout.title && d._fullLayout.title.text;
+  return {title: String(t || '').replace(/<[^>]+>/g, ' '), height: d.getBoundingClientRect().height,
+          block: block.getBoundingClientRect().height,
+          lead: prev ? Math.max(0, top - prev.getBoundingClientRect().bottom) : 0};
+})"""
+
+# Figures made shorter by the given number of pixels ({index: pixels}); a 3-D scene's
+# drawing, scaled to its frame's height, shrinks with it and still fits across.
+SHRINK_FIGURES = r"""async (shrink) => {
+  const figs = [...document.querySelectorAll('.plotly-graph-div')];
+  for (const [i, by] of Object.entries(shrink)) {
+    const d = figs[Number(i)], h = Math.round(d._fullLayout.height - by);
+    for (const b of [d, d.parentElement])
+      if (b && b.style.height && !b.classList.contains('cell_output')) b.style.height = h + 'px';
+    await Plotly.relayout(d, {height: h});
+  }
+  await new Promise(r => requestAnimationFrame(() => r()));
+}"""
+
+
+def _page_words(pdf):
+    """Each page of PDF as (height, [(top, bottom, word)]) in points (pdftotext -bbox)."""
+    import subprocess
+    html = subprocess.run(["pdftotext", "-bbox", str(pdf), "-"], capture_output=True,
+                          text=True, check=True).stdout
+    return [(float(h), [(float(a), float(b), w) for a, b, w in re.findall(
+        r'<word xMin="[\d.]+" yMin="([\d.]+)" xMax="[\d.]+" yMax="([\d.]+)">([^<]*)</word>', body)])
+        for h, body in re.findall(r'<page width="[\d.]+" height="([\d.]+)">(.*?)</page>', html, re.S)]
+
+
+def figures_to_shrink(pdf, figures, margin_mm=16, most=0.4, at_most=0.35):
+    """The figures (FIGURE_BLOCKS) that opened a page of PDF when the page before has
+    most of its printed area empty (more than MOST of it) and would hold the figure's block
+    if the figure were shorter by at most AT_MOST of its height: {index: pixels shorter}.
+    (Chromium prints a CSS pixel as 0.75 pt.)"""
+    pages = _page_words(pdf)
+    margin = margin_mm / 25.4 * 72
+    shrink, start = {}, 1
+    for i, fig in enumerate(figures):
+        key = _squash(fig["title"])[:24]
+        if len(key) < 8:
+            continue
+        for n in range(start, len(pages)):
+            height, words = pages[n]
+            inside = [(a, b, w) for a, b, w in words if a > margin and b < height - margin]
+            if not key or key not in _squash(" ".join(w for _, _, w in inside)):
+                continue
+            start = n
+            if not _squash(" ".join(w for _, _, w in inside)).startswith(key):
+                break
+            before = [b for a, b, _ in pages[n - 1][1] if a > margin and b < pages[n - 1][0] - margin]
+            foot = pages[n - 1][0] - margin
+            free = (foot - max(before, default=margin)) / 0.75
+            # (and a little more: the last line's box reaches below its letters)
+            need = fig["block"] + fig.get("lead", 0) - free + 16
+            if free > most * (foot - margin) / 0.75 and 0 < need <= at_most * fig["height"]:
+                shrink[i] = need
+            break
+    return shrink
+
+
 def chromium_executable():
     for c in (os.environ.get("CHROMIUM"), "/usr/bin/chromium", shutil.which("chromium"),
               shutil.which("chromium-browser"), shutil.which("google-chrome")):
@@ -1497,7 +1590,9 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
     from playwright.sync_api import sync_playwright
     pdf = Path(pdf)
     stamp = pdf.with_name(pdf.name + ".stamp")
+    script = Path(site) / "_static" / "course.js"   # it lays the 3-D figures out too
     key = hashlib.sha256(b"\0".join([(Path(site) / "index.html").read_bytes(),
+                                       script.read_bytes() if script.exists() else b"",
                                        Path(__file__).read_bytes()])).hexdigest()
     if pdf.exists() and stamp.exists() and stamp.read_text() == key:
         return pdf
@@ -1529,11 +1624,20 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
                          .map(d => window.Plotly ? Plotly.Plots.resize(d) : null))""")
         page.wait_for_function("""() => [...document.querySelectorAll('.plotly-graph-div')]
                                .every(d => d._fullLayout)""")  # drawn once the page has loaded
+        # (and laid out for the page's width by course.js, which would otherwise redo its
+        # fonts after the paper's)
+        page.wait_for_function("""() => !window.Plotly || [...document.querySelectorAll('.plotly-graph-div')]
+                               .every(d => d.dataset.courseSceneFitted)""")
         page.evaluate("""() => Promise.all([...document.querySelectorAll('.plotly-graph-div')]
                          .map(d => window.Plotly ? Plotly.relayout(d, {sliders: [], updatemenus: [],
                            'title.text': (typeof d.layout.title === 'string' ? d.layout.title
                              : String((d.layout.title && d.layout.title.text) || ''))
                              .replace(/^Turn it:\\s*/, ''),
+                           // a legend's title that tells the screen's reader to turn the
+                           // figure ("on screen: drag to turn it") says nothing on paper
+                           ...(/\\bdrag\\b|\\bon screen\\b/i.test(String((d.layout.legend && d.layout.legend.title
+                               && (d.layout.legend.title.text || d.layout.legend.title)) || ''))
+                               ? {'legend.title.text': ''} : {}),
                            // set for a projected slide; on a column of paper a third smaller
                            // and dark: plotly's grey is too light on paper
                            'title.font.size': 16, 'legend.font.size': 15, 'font.size': 15,
@@ -1544,6 +1648,7 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
                                [`${sc}.${a}.tickfont.size`, 14], [`${sc}.${a}.tickfont.color`, '#111'],
                                [`${sc}.${a}.title.font.size`, 16], [`${sc}.${a}.title.font.color`, '#111'],
                                [`${sc}.${a}.gridcolor`, '#bbb'], [`${sc}.${a}.nticks`, 4]])))}) : null))""")
+        page.evaluate(FIT_SCENES)
         page.evaluate("html => { if (!document.getElementById('course-print-close')) "
                       "document.body.insertAdjacentHTML('beforeend', html); }", closing_page())
         titles = page.evaluate(PRINT_PREPARE, None)
@@ -1553,6 +1658,13 @@ def print_pdf(site=PRINT_OUT, pdf=PDF, browser=None):
                        margin={"top": "16mm", "bottom": "16mm", "left": "14mm", "right": "14mm"})
         tmp = Path(pdf).with_suffix(".tmp.pdf")
         page.pdf(path=str(tmp), **options)
+        # a figure moved whole to the next page, leaving most of this one empty, is made
+        # short enough to stay (a 3-D scene's drawing shrinks with its frame)
+        shrink = figures_to_shrink(tmp, page.evaluate(FIGURE_BLOCKS))
+        if shrink:
+            page.evaluate(SHRINK_FIGURES, {str(i): by for i, by in shrink.items()})
+            titles = page.evaluate(PRINT_PREPARE, None)
+            page.pdf(path=str(tmp), **options)
         # second pass: the contents list gets the page numbers the first pass found
         pages = _pdf_pages(tmp)
         at = _contents_end(pages, titles["toc"])

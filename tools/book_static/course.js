@@ -254,6 +254,9 @@
     }
     if (Object.keys(upd).length) return window.Plotly.relayout(fig, upd);
   }
+  // the print (tools/book.py) fits each scene to its frame on paper the same way, once the
+  // figure has its paper's fonts and width
+  window.courseFitScenes = fitScenes;
 
   /* A display formula wider than the column is set smaller until it fits, so that it keeps
      its equation number in view: down to 70% of the text's size when it then fits whole

@@ -283,13 +283,13 @@ TOC_IN_VIEW = """async () => {
       if (expected ? !marked.includes(expected) : marked.length)
         wrong.push(`${Math.round(at * 100)}% down: marked "${name(marked.pop())}", reading "${name(expected)}"`);
       // one place marked: the entry read and the entries it sits under, by the link's
-      // class or its list item's (the theme's own marking), nothing else
+      // class, its aria-current or its list item's class (the theme's own marking), nothing else
       const chain = new Set();
       for (let li = expected && expected.closest('li'); li && toc.contains(li); li = li.parentElement.closest('li')) {
         const a = li.querySelector(':scope > a.nav-link');
         if (a) chain.add(a);
       }
-      const shownMarked = links.filter(a => a.classList.contains('active') ||
+      const shownMarked = links.filter(a => a.classList.contains('active') || a.hasAttribute('aria-current') ||
                                             (a.parentElement.matches('li') && a.parentElement.classList.contains('active')));
       for (const a of shownMarked.filter(a => !chain.has(a)))
         wrong.push(`${Math.round(at * 100)}% down: "${name(a)}" marked besides "${name(expected)}"`);

@@ -344,6 +344,9 @@
       }
       for (const a of links) {
         if (want.has(a) !== a.classList.contains("active")) a.classList.toggle("active", want.has(a));
+        // the theme's marker for screen readers and its bold, blue entry: the same entries
+        if (want.has(a) && a.getAttribute("aria-current") !== "true") a.setAttribute("aria-current", "true");
+        else if (!want.has(a) && a.hasAttribute("aria-current")) a.removeAttribute("aria-current");
       }
       // the theme marks an entry's li too, and leaves it marked when it loses track: only
       // the entries marked here keep theirs, so one place is marked, never two
@@ -365,7 +368,8 @@
     };
     let pending = null;
     const soon = () => { clearTimeout(pending); pending = setTimeout(show, 60); };
-    new MutationObserver(soon).observe(panel, {subtree: true, attributes: true, attributeFilter: ["class"]});
+    new MutationObserver(soon).observe(panel, {subtree: true, attributes: true,
+                                               attributeFilter: ["class", "aria-current"]});
     window.addEventListener("scroll", soon, {passive: true});
   }
 

@@ -19,9 +19,9 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 EPS = np.finfo(float).eps
 
 
-# --- `make test`'s two workers: the longest files first ----------------------------------
+# --- `make test`'s workers: the longest files first -------------------------------------
 #
-# `pytest -n 2 --dist loadfile` hands out whole files (a notebook under nbval is one too).
+# `pytest -n N --dist loadfile` hands out whole files (a notebook under nbval is one too).
 # xdist starts them in order of their number of tests, which put the few-test files with
 # the long session fixtures (the book and its visits, the nbgrader runs, the student
 # edition, the Binder venv) last, where one of them ran alone at the end while the other
@@ -32,10 +32,10 @@ EPS = np.finfo(float).eps
 # tests run, and where a file's tests run together, is unchanged.
 
 DURATIONS = Path(__file__).resolve().parent.parent / "build" / "test-durations.json"
-FIRST_GUESS = {"test_book_laptop.py": 130, "test_book_pdf.py": 120, "test_book_phone.py": 70,
-               "test_book.py": 60, "test_assignments.py": 90, "test_slides.py": 90,
-               "test_student_edition.py": 60, "test_binder.py": 60, "test_grading_sandbox.py": 40,
-               "test_newcomer.py": 30, "test_browser.py": 30, "test_interactive.py": 30}
+FIRST_GUESS = {"test_book_laptop.py": 180, "test_book_pdf.py": 140, "test_book_phone.py": 55,
+               "test_book.py": 30, "test_assignments.py": 100, "test_slides.py": 80,
+               "test_student_edition.py": 65, "test_binder.py": 55, "test_grading_sandbox.py": 50,
+               "test_newcomer.py": 30, "test_browser.py": 35, "test_interactive.py": 25}
 _spent = {}
 
 

@@ -77,12 +77,8 @@ lab: $(STAMP)
 # FRESH=1: redo the slow edition test files that passed whole before on the same files
 # (tests/pass_record.py: decks, book, coursework, student edition, Binder, JupyterLab); a
 # fresh clone, and CI, does anyway.
-# Three workers on two cores: the edition tests spend much of their time waiting (Chromium
-# laying out and printing, a kernel starting, a page settling after a scroll), which a
-# third worker fills. TEST_WORKERS=N sets another number.
-TEST_WORKERS ?= 3
 test: check-test-system $(STAMP) lint
-	$(if $(FRESH),TEST_FRESH=1) $(BIN)/python -m pytest -n $(TEST_WORKERS) --dist loadfile $(NBVAL_OPTS) tests $(NOTEBOOKS)
+	$(if $(FRESH),TEST_FRESH=1) $(BIN)/python -m pytest -n 2 --dist loadfile $(NBVAL_OPTS) tests $(NOTEBOOKS)
 	@$(MAKE) --no-print-directory test-portable
 
 check-test-system:

@@ -254,7 +254,24 @@ TEXT_FIRST = """() => {
 # and down the chapter, the entry the theme marks as the section being read lies inside the
 # contents' visible box (a list taller than the window scrolls to it): the places where not.
 TOC_IN_VIEW = """async () => {
-  const settle = () => new Promise(done => setTimeout(done, 400));
+  // after a jump the course's script marks the entry and scrolls the contents to it (after
+  // a short pause, and again when the theme changes its own marks): wait until both hold
+  // still, not a fixed time, which a loaded machine overruns
+  const sleep = ms => new Promise(done => setTimeout(done, ms));
+  const state = () => {
+    const panel = document.querySelector('.bd-sidebar-secondary');
+    return panel ? panel.scrollTop + '|' + [...panel.querySelectorAll('a.active, a[aria-current]')]
+      .map(a => a.getAttribute('href')).join(' ') : '';
+  };
+  const settle = async () => {
+    await sleep(400);
+    for (let last = state(), i = 0; i < 20; i++) {
+      await sleep(150);
+      const now = state();
+      if (now === last) break;
+      last = now;
+    }
+  };
   window.scrollTo(0, document.documentElement.scrollHeight / 2);
   await settle();
   const toc = document.querySelector('.bd-sidebar-secondary');
